@@ -1,0 +1,10 @@
+// Everything in anima. Include the capability headers (anima/rotation.hpp,
+// anima/motion.hpp, anima/bvh.hpp...) or single concept headers to compile less.
+#pragma once
+
+#include <anima/bvh.hpp>
+#include <anima/core/constants.hpp>
+#include <anima/core/error.hpp>
+#include <anima/core/version.hpp>
+#include <anima/motion.hpp>
+#include <anima/rotation.hpp>

@@ -1,0 +1,6 @@
+// BVH input and output.
+#pragma once
+
+#include <anima/bvh/document.hpp>
+#include <anima/bvh/reader.hpp>
+#include <anima/bvh/writer.hpp>

@@ -1,0 +1,12 @@
+// The skeleton and clip model: hierarchy, clips, forward kinematics,
+// velocities, the frames x DOF view, figure guesses and reorientation.
+#pragma once
+
+#include <anima/motion/clip.hpp>
+#include <anima/motion/dof_view.hpp>
+#include <anima/motion/figure.hpp>
+#include <anima/motion/finite_difference.hpp>
+#include <anima/motion/forward_kinematics.hpp>
+#include <anima/motion/reorient.hpp>
+#include <anima/motion/skeleton.hpp>
+#include <anima/motion/velocities.hpp>

@@ -1,0 +1,102 @@
+// Forward kinematics: local rotations and translations to global joint
+// positions and orientations.
+#pragma once
+
+#include <anima/core/error.hpp>
+#include <anima/motion/clip.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace anima {
+
+/// Global (world-space) position and orientation of every joint at one frame.
+template <class T>
+struct global_pose {
+    std::vector<Eigen::Matrix<T, 3, 1>> positions;
+    std::vector<Eigen::Quaternion<T>> orientations;
+};
+
+/// Global pose of frame f, written into `out` (reusing its storage: no
+/// allocation once it has the right size, so it can run every game frame).
+template <class T>
+void forward_kinematics(const clip<T>& c, std::size_t f, global_pose<T>& out) {
+    if (f >= c.frames())
+        throw invalid_argument("anima::forward_kinematics: frame " + std::to_string(f) + " out of range (" +
+                               std::to_string(c.frames()) + " frames)");
+    const auto& sk = c.skeleton();
+    const std::size_t n = sk.size(), nt = sk.translated_joint_count();
+    out.positions.resize(n);
+    out.orientations.resize(n);
+    const auto* rot = c.rotations().data() + f * n;
+    const auto* tra = nt ? c.translations().data() + f * nt : nullptr;
+    for (std::size_t j = 0; j < n; ++j) {
+        const auto& jt = sk[j];
+        const int slot = sk.translation_slot(j);
+        const auto& local_t = slot < 0 ? jt.offset : tra[slot];
+        if (jt.parent < 0) {
+            out.positions[j] = local_t;
+            out.orientations[j] = rot[j];
+        } else {
+            const auto p = static_cast<std::size_t>(jt.parent);
+            out.positions[j] = out.positions[p] + out.orientations[p] * local_t;
+            out.orientations[j] = out.orientations[p] * rot[j];
+        }
+    }
+}
+
+/// Global pose of frame f.
+template <class T>
+global_pose<T> forward_kinematics(const clip<T>& c, std::size_t f) {
+    global_pose<T> out;
+    forward_kinematics(c, f, out);
+    return out;
+}
+
+/// Global position of every joint's End Site (joints without one get their
+/// own position), for drawing and for effector targets at finger and toe tips.
+template <class T>
+std::vector<Eigen::Matrix<T, 3, 1>> end_site_positions(const skeleton<T>& sk, const global_pose<T>& pose) {
+    std::vector<Eigen::Matrix<T, 3, 1>> out(sk.size());
+    for (std::size_t j = 0; j < sk.size(); ++j)
+        out[j] = sk[j].end_site ? Eigen::Matrix<T, 3, 1>(pose.positions[j] + pose.orientations[j] * *sk[j].end_site)
+                                : pose.positions[j];
+    return out;
+}
+
+/// Global joint positions over the whole clip: a frames x (3 * joints) matrix,
+/// row f = (x0, y0, z0, x1, y1, z1, ...) of frame f.
+template <class T>
+Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> global_positions(const clip<T>& c) {
+    const std::size_t n = c.joints();
+    Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> out(static_cast<Eigen::Index>(c.frames()),
+                                                         static_cast<Eigen::Index>(3 * n));
+    global_pose<T> pose;
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        forward_kinematics(c, f, pose);
+        for (std::size_t j = 0; j < n; ++j)
+            out.row(static_cast<Eigen::Index>(f)).template segment<3>(static_cast<Eigen::Index>(3 * j)) =
+                pose.positions[j].transpose();
+    }
+    return out;
+}
+
+/// Positions of the skeleton in its rest pose (identity rotations, offsets
+/// only), plus the End Sites in the second vector.
+template <class T>
+std::pair<std::vector<Eigen::Matrix<T, 3, 1>>, std::vector<Eigen::Matrix<T, 3, 1>>> rest_positions(
+    const skeleton<T>& sk) {
+    std::vector<Eigen::Matrix<T, 3, 1>> joints(sk.size()), ends;
+    for (std::size_t j = 0; j < sk.size(); ++j) {
+        joints[j] = sk[j].parent < 0 ? sk[j].offset : Eigen::Matrix<T, 3, 1>(joints[static_cast<std::size_t>(sk[j].parent)] + sk[j].offset);
+        if (sk[j].end_site) ends.push_back(joints[j] + *sk[j].end_site);
+    }
+    return {joints, ends};
+}
+
+}  // namespace anima

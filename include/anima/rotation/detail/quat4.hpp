@@ -1,0 +1,126 @@
+// Internal plain quaternion used by the rotation toolkit. Public functions load
+// the user's type into quat4, compute, and store back through quat_traits, so
+// the maths is written once for every quaternion type.
+#pragma once
+
+#include <anima/core/error.hpp>
+#include <anima/rotation/quat_traits.hpp>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+namespace anima::detail {
+
+template <class T>
+struct quat4 {
+    static_assert(std::is_floating_point_v<T>, "anima quaternions need a floating-point scalar");
+    T w, x, y, z;
+
+    friend quat4 operator*(const quat4& a, const quat4& b) {
+        return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
+                a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+                a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+                a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+    }
+    friend quat4 operator*(const quat4& a, T s) { return {a.w * s, a.x * s, a.y * s, a.z * s}; }
+    friend quat4 operator+(const quat4& a, const quat4& b) {
+        return {a.w + b.w, a.x + b.x, a.y + b.y, a.z + b.z};
+    }
+    friend quat4 operator-(const quat4& a, const quat4& b) {
+        return {a.w - b.w, a.x - b.x, a.y - b.y, a.z - b.z};
+    }
+    quat4 operator-() const { return {-w, -x, -y, -z}; }
+};
+
+template <class T>
+T dot4(const quat4<T>& a, const quat4<T>& b) {
+    return a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <class T>
+T norm4(const quat4<T>& q) {
+    return std::sqrt(dot4(q, q));
+}
+template <class T>
+quat4<T> conj4(const quat4<T>& q) {
+    return {q.w, -q.x, -q.y, -q.z};
+}
+template <class T>
+T vector_norm(const quat4<T>& q) {
+    return std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
+}
+
+template <class Q>
+quat4<quat_scalar_t<Q>> load(const Q& q) {
+    using tr = quat_traits<Q>;
+    return {tr::w(q), tr::x(q), tr::y(q), tr::z(q)};
+}
+template <class Q, class T>
+Q store(const quat4<T>& q) {
+    return quat_traits<Q>::make(q.w, q.x, q.y, q.z);
+}
+
+/// Below this angle (radians) a 4th-order Taylor series of sin(x)/x is exact to
+/// machine precision: x^4/120 <= epsilon.
+template <class T>
+T small_angle() {
+    return std::sqrt(std::sqrt(T(120) * std::numeric_limits<T>::epsilon()));
+}
+
+/// sin(x)/x, exact near 0.
+template <class T>
+T sinc(T x) {
+    if (std::abs(x) < small_angle<T>()) return T(1) - x * x / T(6);
+    return std::sin(x) / x;
+}
+
+/// Normalises, refusing a zero or non-finite norm: the caller names itself.
+template <class T>
+quat4<T> normalized_or_throw(const quat4<T>& q, const char* who) {
+    const T n = norm4(q);
+    if (!(n > T(0)) || !std::isfinite(n))
+        throw invalid_argument(std::string(who) + ": quaternion has zero or non-finite norm (" +
+                               std::to_string(static_cast<double>(n)) + ")");
+    return q * (T(1) / n);
+}
+
+/// exp of a pure quaternion (0, v): (cos|v|, sin|v| v/|v|).
+template <class T>
+quat4<T> exp_pure(T vx, T vy, T vz) {
+    const T a = std::sqrt(vx * vx + vy * vy + vz * vz);
+    const T s = sinc(a);
+    return {std::cos(a), s * vx, s * vy, s * vz};
+}
+
+/// Vector part of log of a unit quaternion: theta * axis where q = (cos theta, sin theta axis),
+/// theta in [0, pi]. atan2 keeps full precision at both ends.
+template <class T>
+void log_unit(const quat4<T>& q, T& vx, T& vy, T& vz) {
+    const T s = vector_norm(q);
+    const T theta = std::atan2(s, q.w);
+    // theta / sin(theta) written as theta / s; when s is tiny and w > 0 the ratio -> 1/w.
+    T k;
+    if (s < small_angle<T>() * std::abs(q.w)) {
+        if (q.w > T(0)) {
+            k = (T(1) - s * s / (T(3) * q.w * q.w)) / q.w;
+        } else {
+            // q ~ -1: the rotation is the identity reached the long way round (angle 2 pi).
+            // The axis is undefined when s == 0; choose x so the result is finite.
+            if (s == T(0)) {
+                vx = theta;
+                vy = T(0);
+                vz = T(0);
+                return;
+            }
+            k = theta / s;
+        }
+    } else {
+        k = theta / s;
+    }
+    vx = k * q.x;
+    vy = k * q.y;
+    vz = k * q.z;
+}
+
+}  // namespace anima::detail

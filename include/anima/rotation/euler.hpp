@@ -1,0 +1,136 @@
+// Euler (Tait-Bryan) angles <-> quaternions for all six axis orders.
+//
+// Convention: order "zxy" with angles (a0, a1, a2) is the rotation
+// Rz(a0) * Rx(a1) * Ry(a2) acting on column vectors: the axes are applied
+// right to left, or equivalently intrinsically in the order written. This is
+// what a BVH line "CHANNELS 3 Zrotation Xrotation Yrotation" means.
+// Angles are in radians.
+#pragma once
+
+#include <anima/core/error.hpp>
+#include <anima/rotation/detail/quat4.hpp>
+#include <anima/rotation/quat_traits.hpp>
+
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <type_traits>
+
+namespace anima {
+
+/// A rotation axis of the local frame.
+enum class axis : unsigned char { x = 0, y = 1, z = 2 };
+
+/// The six Tait-Bryan orders; the letters give the axes of a0, a1, a2.
+enum class euler_order : unsigned char { xyz, xzy, yxz, yzx, zxy, zyx };
+
+/// The three axes of an order, in the order the angles are given.
+inline constexpr std::array<axis, 3> axes_of(euler_order order) {
+    switch (order) {
+        case euler_order::xyz: return {axis::x, axis::y, axis::z};
+        case euler_order::xzy: return {axis::x, axis::z, axis::y};
+        case euler_order::yxz: return {axis::y, axis::x, axis::z};
+        case euler_order::yzx: return {axis::y, axis::z, axis::x};
+        case euler_order::zxy: return {axis::z, axis::x, axis::y};
+        case euler_order::zyx: return {axis::z, axis::y, axis::x};
+    }
+    return {axis::x, axis::y, axis::z};
+}
+
+/// The order whose axes are a0, a1, a2. Throws anima::invalid_argument when an
+/// axis repeats (proper Euler angles such as zxz are not Tait-Bryan).
+inline euler_order euler_order_of(axis a0, axis a1, axis a2) {
+    for (euler_order o : {euler_order::xyz, euler_order::xzy, euler_order::yxz, euler_order::yzx,
+                          euler_order::zxy, euler_order::zyx}) {
+        const auto ax = axes_of(o);
+        if (ax[0] == a0 && ax[1] == a1 && ax[2] == a2) return o;
+    }
+    throw invalid_argument("anima::euler_order_of: the three axes must be distinct");
+}
+
+/// "XYZ", "zxy"... (case-insensitive) to an order; throws anima::invalid_argument otherwise.
+inline euler_order parse_euler_order(std::string_view s) {
+    if (s.size() == 3) {
+        axis ax[3];
+        bool ok = true;
+        for (int i = 0; i < 3; ++i) {
+            const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(s[i])));
+            if (c < 'x' || c > 'z') ok = false;
+            else ax[i] = static_cast<axis>(c - 'x');
+        }
+        if (ok && ax[0] != ax[1] && ax[1] != ax[2] && ax[0] != ax[2]) return euler_order_of(ax[0], ax[1], ax[2]);
+    }
+    throw invalid_argument("anima::parse_euler_order: '" + std::string(s) +
+                           "' is not one of XYZ, XZY, YXZ, YZX, ZXY, ZYX");
+}
+
+/// "XYZ" etc.
+inline std::string to_string(euler_order order) {
+    std::string s;
+    for (axis a : axes_of(order)) s += static_cast<char>('X' + static_cast<int>(a));
+    return s;
+}
+
+namespace detail {
+
+template <class T>
+quat4<T> axis_rotation(axis a, T angle) {
+    const T h = angle / T(2);
+    quat4<T> q{std::cos(h), T(0), T(0), T(0)};
+    const T s = std::sin(h);
+    if (a == axis::x) q.x = s;
+    else if (a == axis::y) q.y = s;
+    else q.z = s;
+    return q;
+}
+
+/// Row-major rotation matrix of a unit quaternion.
+template <class T>
+std::array<std::array<T, 3>, 3> to_matrix(const quat4<T>& q) {
+    const T xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+    const T xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
+    const T wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+    return {{{T(1) - T(2) * (yy + zz), T(2) * (xy - wz), T(2) * (xz + wy)},
+             {T(2) * (xy + wz), T(1) - T(2) * (xx + zz), T(2) * (yz - wx)},
+             {T(2) * (xz - wy), T(2) * (yz + wx), T(1) - T(2) * (xx + yy)}}};
+}
+
+template <class T>
+std::array<T, 3> matrix_to_euler(const std::array<std::array<T, 3>, 3>& R, euler_order order) {
+    const auto ax = axes_of(order);
+    const int i = static_cast<int>(ax[0]), j = static_cast<int>(ax[1]), k = static_cast<int>(ax[2]);
+    // +1 for the cyclic orders (xyz, yzx, zxy), -1 for the others.
+    const T sign = ((j - i + 3) % 3 == 1) ? T(1) : T(-1);
+    const T cb = std::sqrt(R[i][i] * R[i][i] + R[i][j] * R[i][j]);
+    const T b = std::atan2(sign * R[i][k], cb);
+    // Near gimbal lock (|b| -> pi/2) a and c are no longer separable and the
+    // general formulas divide noise by cos b; balance the two errors at
+    // sqrt(epsilon): below it set c = 0 and put the whole turn in a.
+    if (cb < std::sqrt(std::numeric_limits<T>::epsilon())) {
+        return {std::atan2(sign * R[k][j], R[j][j]), b, T(0)};
+    }
+    return {std::atan2(-sign * R[j][k], R[k][k]), b, std::atan2(-sign * R[i][j], R[i][i])};
+}
+
+}  // namespace detail
+
+/// Quaternion of the rotation R_{a0 axis}(a0) * R_{a1 axis}(a1) * R_{a2 axis}(a2).
+template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
+Q from_euler(quat_scalar_t<Q> a0, quat_scalar_t<Q> a1, quat_scalar_t<Q> a2, euler_order order) {
+    const auto ax = axes_of(order);
+    return detail::store<Q>(detail::axis_rotation(ax[0], a0) * detail::axis_rotation(ax[1], a1) *
+                            detail::axis_rotation(ax[2], a2));
+}
+
+/// Angles (a0, a1, a2) of a unit quaternion in the given order, with a0, a2 in
+/// (-pi, pi] and a1 in [-pi/2, pi/2]. At gimbal lock (|a1| = pi/2) a2 is set to 0.
+template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
+std::array<quat_scalar_t<Q>, 3> to_euler(const Q& q, euler_order order) {
+    return detail::matrix_to_euler(
+        detail::to_matrix(detail::normalized_or_throw(detail::load(q), "anima::to_euler")), order);
+}
+
+}  // namespace anima
