@@ -11,3 +11,4 @@
 #include <anima/rotation/quaternion.hpp>
 #include <anima/rotation/slerp.hpp>
 #include <anima/rotation/squad.hpp>
+#include <anima/rotation/swing_twist.hpp>

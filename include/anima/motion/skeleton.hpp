@@ -110,9 +110,9 @@ public:
         for (std::size_t i = 0; i < n; ++i) {
             std::size_t d = 0;
             for (int p = parents[i]; p != -1; p = parents[static_cast<std::size_t>(p)])
-                if (++d > n)
-                    throw invalid_argument("anima::skeleton::from_parents: joint '" + names[i] +
-                                           "' is on a cycle of parents");
+                if (++d > n)  // after n steps the walk is inside the cycle: p is on it
+                    throw invalid_argument("anima::skeleton::from_parents: joint '" +
+                                           names[static_cast<std::size_t>(p)] + "' is on a cycle of parents");
             depth[i] = d;
             order[i] = i;
         }

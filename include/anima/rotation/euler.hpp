@@ -98,6 +98,13 @@ std::array<std::array<T, 3>, 3> to_matrix(const quat4<T>& q) {
              {T(2) * (xz - wy), T(2) * (yz + wx), T(1) - T(2) * (xx + yy)}}};
 }
 
+/// atan2 mapped to (-pi, pi]: atan2(-0, negative) is -pi.
+template <class T>
+T atan2_half_open(T y, T x) {
+    const T a = std::atan2(y, x);
+    return a <= -T(3.141592653589793238462643383279502884L) ? -a : a;
+}
+
 template <class T>
 std::array<T, 3> matrix_to_euler(const std::array<std::array<T, 3>, 3>& R, euler_order order) {
     const auto ax = axes_of(order);
@@ -106,13 +113,18 @@ std::array<T, 3> matrix_to_euler(const std::array<std::array<T, 3>, 3>& R, euler
     const T sign = ((j - i + 3) % 3 == 1) ? T(1) : T(-1);
     const T cb = std::sqrt(R[i][i] * R[i][i] + R[i][j] * R[i][j]);
     const T b = std::atan2(sign * R[i][k], cb);
-    // Near gimbal lock (|b| -> pi/2) a and c are no longer separable and the
-    // general formulas divide noise by cos b; balance the two errors at
-    // sqrt(epsilon): below it set c = 0 and put the whole turn in a.
-    if (cb < std::sqrt(std::numeric_limits<T>::epsilon())) {
-        return {std::atan2(sign * R[k][j], R[j][j]), b, T(0)};
+    if (cb < std::numeric_limits<T>::epsilon()) {
+        // Gimbal lock: only a0 + a2 (or a0 - a2) is defined; put it all in a0.
+        return {atan2_half_open(sign * R[k][j], R[j][j]), b, T(0)};
     }
-    return {std::atan2(-sign * R[j][k], R[k][k]), b, std::atan2(-sign * R[i][j], R[i][i])};
+    const T a = atan2_half_open(-sign * R[j][k], R[k][k]);
+    // a2 from what is left once a0 is undone, R_i(-a0) R = R_j(a1) R_k(a2):
+    // exact for whatever a0 came out, so precision holds right up to gimbal
+    // lock, where a0 itself becomes ill-conditioned.
+    const T ca = std::cos(a), sa = std::sin(a);
+    const T rji = ca * R[j][i] + sign * sa * R[k][i];
+    const T rjj = ca * R[j][j] + sign * sa * R[k][j];
+    return {a, b, atan2_half_open(sign * rji, rjj)};
 }
 
 }  // namespace detail
@@ -126,7 +138,8 @@ Q from_euler(quat_scalar_t<Q> a0, quat_scalar_t<Q> a1, quat_scalar_t<Q> a2, eule
 }
 
 /// Angles (a0, a1, a2) of a unit quaternion in the given order, with a0, a2 in
-/// (-pi, pi] and a1 in [-pi/2, pi/2]. At gimbal lock (|a1| = pi/2) a2 is set to 0.
+/// (-pi, pi] and a1 in [-pi/2, pi/2]. At gimbal lock (|a1| = pi/2, where only
+/// a0 + a2 or a0 - a2 is defined) a2 is set to 0.
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 std::array<quat_scalar_t<Q>, 3> to_euler(const Q& q, euler_order order) {
     return detail::matrix_to_euler(

@@ -17,15 +17,29 @@ T sin_ratio(T k, T theta) {
     return std::sin(k * theta) / std::sin(theta);
 }
 
+/// Slerp of 4-vectors; `renormalize` = false skips the final rescaling where a
+/// caller feeds the result straight into another slerp.
 template <class T>
-quat4<T> slerp4(const quat4<T>& a, quat4<T> b, T t) {
+quat4<T> slerp4(const quat4<T>& a, quat4<T> b, T t, bool renormalize = true) {
     if (dot4(a, b) < T(0)) b = -b;  // shortest arc: q and -q are the same rotation
-    // Angle between the 4-vectors from |a-b| and |a+b|: accurate at both ends,
-    // where acos(a.b) loses half the digits.
-    const T theta = T(2) * std::atan2(norm4(a - b), norm4(a + b));
-    const quat4<T> r = a * sin_ratio(T(1) - t, theta) + b * sin_ratio(t, theta);
+    // With u = |a-b| = 2 sin(theta/2) and v = |a+b| = 2 cos(theta/2) (for unit
+    // inputs), the angle comes from asin(u / |(u, v)|), well conditioned since
+    // u <= v after the flip, and 1/sin(theta) = (u^2 + v^2) / 2uv needs no
+    // further sine. acos(a.b) would lose half the digits near 0.
+    const T u = norm4(a - b), v = norm4(a + b), h2 = u * u + v * v;
+    const T theta = T(2) * std::asin(u / std::sqrt(h2));
+    T k0, k1;
+    if (theta < small_angle<T>()) {
+        k0 = sin_ratio(T(1) - t, theta);
+        k1 = sin_ratio(t, theta);
+    } else {
+        const T inv_sin = h2 / (T(2) * u * v);
+        k0 = std::sin((T(1) - t) * theta) * inv_sin;
+        k1 = std::sin(t * theta) * inv_sin;
+    }
+    const quat4<T> r = a * k0 + b * k1;
     // Inputs a hair off unit length would drift; renormalising keeps |r| = 1.
-    return r * (T(1) / norm4(r));
+    return renormalize ? r * (T(1) / norm4(r)) : r;
 }
 
 }  // namespace detail

@@ -14,7 +14,9 @@ namespace anima {
 /// s_i = q_i exp(-(log(q_i^-1 q_{i+1}) + log(q_i^-1 q_{i-1})) / 4).
 /// The neighbours are first moved to q_i's hemisphere, so the sign of the
 /// inputs does not matter. At the ends of a sequence pass prev = q_i (or
-/// next = q_i): the control point then bends toward the one real neighbour.
+/// next = q_i): the control point is then slerp(q_i, next, -1/4), a quarter
+/// of the way back along the one real neighbour's arc, which starts the curve
+/// towards that neighbour with the tangent of the segment.
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q squad_control_point(const Q& prev, const Q& q, const Q& next) {
     using T = quat_scalar_t<Q>;
@@ -38,8 +40,8 @@ Q squad_control_point(const Q& prev, const Q& q, const Q& next) {
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q squad(const Q& q1, const Q& q2, const Q& s1, const Q& s2, quat_scalar_t<Q> t) {
     using T = quat_scalar_t<Q>;
-    const auto a = detail::slerp4(detail::load(q1), detail::load(q2), t);
-    const auto b = detail::slerp4(detail::load(s1), detail::load(s2), t);
+    const auto a = detail::slerp4(detail::load(q1), detail::load(q2), t, false);
+    const auto b = detail::slerp4(detail::load(s1), detail::load(s2), t, false);
     return detail::store<Q>(detail::slerp4(a, b, T(2) * t * (T(1) - t)));
 }
 

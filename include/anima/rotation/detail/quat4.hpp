@@ -61,11 +61,20 @@ Q store(const quat4<T>& q) {
     return quat_traits<Q>::make(q.w, q.x, q.y, q.z);
 }
 
-/// Below this angle (radians) a 4th-order Taylor series of sin(x)/x is exact to
-/// machine precision: x^4/120 <= epsilon.
+/// Square root by Newton's method, for compile-time constants.
 template <class T>
-T small_angle() {
-    return std::sqrt(std::sqrt(T(120) * std::numeric_limits<T>::epsilon()));
+constexpr T constexpr_sqrt(T x) {
+    T r = x > T(1) ? x : T(1);
+    for (int i = 0; i < 200; ++i) r = T(0.5) * (r + x / r);
+    return r;
+}
+
+/// Below this angle (radians) a 4th-order Taylor series of sin(x)/x is exact to
+/// machine precision: x^4/120 <= epsilon. A constant, so hot loops pay nothing.
+template <class T>
+constexpr T small_angle() {
+    constexpr T value = constexpr_sqrt(constexpr_sqrt(T(120) * std::numeric_limits<T>::epsilon()));
+    return value;
 }
 
 /// sin(x)/x, exact near 0.
@@ -103,7 +112,10 @@ void log_unit(const quat4<T>& q, T& vx, T& vy, T& vz) {
     T k;
     if (s < small_angle<T>() * std::abs(q.w)) {
         if (q.w > T(0)) {
-            k = (T(1) - s * s / (T(3) * q.w * q.w)) / q.w;
+            // atan(r)/r = 1 - r^2/3 + r^4/5 - ..., r = s/w; the r^4 term matters
+            // at this cut-off (chosen for sinc, whose next term is r^4/120).
+            const T r2 = s * s / (q.w * q.w);
+            k = (T(1) - r2 / T(3) + r2 * r2 / T(5)) / q.w;
         } else {
             // q ~ -1: the rotation is the identity reached the long way round (angle 2 pi).
             // The axis is undefined when s == 0; choose x so the result is finite.

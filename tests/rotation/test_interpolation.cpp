@@ -1,0 +1,204 @@
+// lerp, nlerp, slerp and squad, checked against a long double reference
+// slerp, glm::slerp, Eigen's slerp and glm::squad / glm::intermediate.
+#define GLM_ENABLE_EXPERIMENTAL
+#include "rotation_test_util.hpp"
+
+#include <anima/rotation/angular_velocity.hpp>
+#include <anima/rotation/lerp.hpp>
+#include <anima/rotation/quaternion.hpp>
+#include <anima/rotation/slerp.hpp>
+#include <anima/rotation/squad.hpp>
+
+#include <glm/gtx/quaternion.hpp>
+
+#include <vector>
+
+using namespace rt;
+
+namespace {
+/// Slerp in long double: a (a^-1 b)^t along the shorter arc, from the relative rotation.
+lq ref_slerp(const lq& a, lq b, ld t) {
+    if (a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z < 0) b = scale(b, -1);
+    const lq d = conj(a) * b;
+    const ld s = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    if (s == 0) return a;
+    const ld half = std::atan2(s, d.w);
+    return a * lq{std::cos(t * half), std::sin(t * half) * d.x / s, std::sin(t * half) * d.y / s,
+                  std::sin(t * half) * d.z / s};
+}
+/// Keys of a smooth random walk, neighbours in the same hemisphere.
+template <class Q>
+std::vector<Q> walk(rng& r, int n) {
+    std::vector<Q> keys{r.unit<Q>()};
+    for (int i = 1; i < n; ++i)
+        keys.push_back(from_lq<Q>(to_lq(keys.back()) * rot(r.uniform(0.3, 1.2), r.unit_vector())));
+    return keys;
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("lerp is the raw blend; nlerp is normalised and takes the short way", Q,
+                   ANIMA_QUAT_TYPES) {
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    rng r(31);
+    for (int i = 0; i < 100; ++i) {
+        const Q a = r.unit<Q>(), b = r.unit<Q>();
+        const T t = T(r.uniform(-0.5, 1.5));
+        CHECK(diff(anima::lerp(a, b, t), scale(to_lq(a), 1 - ld(t)) + scale(to_lq(b), t)) <= 4 * e);
+        const Q far = anima::dot(a, b) < 0 ? b : neg(b);  // a.far < 0: lerp must not flip it
+        CHECK(diff(anima::lerp(a, far, T(0.5)), scale(to_lq(a) + to_lq(far), 0.5)) <= 2 * e);
+
+        const Q n = anima::nlerp(a, b, t);
+        CHECK(norm_error(n) <= 2 * e);
+        CHECK(diff(n, anima::nlerp(a, neg(b), t)) == 0);
+        CHECK(diff(n, unit(scale(to_lq(a), 1 - ld(t)) + scale(to_lq(anima::align_hemisphere(b, a)), t))) <=
+              4 * e);
+        CHECK(diff(anima::nlerp(a, b, T(0)), a) <= 2 * e);
+        CHECK(diff(anima::nlerp(a, b, T(1)), anima::align_hemisphere(b, a)) <= 2 * e);
+        CHECK(diff(anima::nlerp(a, b, T(0.5)), anima::slerp(a, b, T(0.5))) <= 4 * e);
+        CHECK(diff(anima::nlerp(a, neg(a), t), a) <= 2 * e);
+    }
+    const Q q = r.unit<Q>();
+    CHECK(diff(anima::lerp(q, neg(q), T(0.5)), make<Q>(0, 0, 0, 0)) == 0);  // the long way round: no rotation
+}
+
+TEST_CASE_TEMPLATE("slerp follows the shorter great arc at constant speed", Q, ANIMA_QUAT_TYPES) {
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    rng r(32);
+    for (int i = 0; i < 200; ++i) {
+        const Q a = r.unit<Q>(), b = r.unit<Q>();
+        CHECK(diff(anima::slerp(a, b, T(0)), a) <= 2 * e);
+        CHECK(diff(anima::slerp(a, b, T(1)), anima::align_hemisphere(b, a)) <= 2 * e);
+        const T x = T(r.uniform(-0.5, 1.5));  // extrapolation too
+        CHECK(norm_error(anima::slerp(a, b, x)) <= 2 * e);
+        const lq pa = to_lq(a), pb = to_lq(b);  // inputs a hair off unit length still give a unit result
+        const ld up = 1 + 64 * e, down = 1 - 64 * e;
+        CHECK(norm_error(anima::slerp(make<Q>(up * pa.w, up * pa.x, up * pa.y, up * pa.z),
+                                      make<Q>(down * pb.w, down * pb.x, down * pb.y, down * pb.z), x)) <=
+              2 * e);
+        CHECK(diff(anima::slerp(a, b, x), ref_slerp(to_lq(a), to_lq(b), x)) <= 8 * e);
+        CHECK(diff(anima::slerp(a, b, x), anima::slerp(a, neg(b), x)) <= 2 * e);
+
+        const T t = T(r.uniform(0, 1));
+        const Q s = anima::slerp(a, b, t);
+        CAPTURE(t);
+        const ld angle = angle_between(to_lq(a), to_lq(b));
+        CHECK(std::abs(angle_between(to_lq(a), to_lq(s)) - t * angle) <= 8 * e);
+        CHECK(std::abs(angle_between(to_lq(s), to_lq(b)) - (1 - t) * angle) <= 8 * e);
+        CHECK(diff(s, glm::slerp(to_glm(a), to_glm(b), t)) <= 64 * e);
+        CHECK(diff(s, to_eigen(a).slerp(t, to_eigen(b))) <= 64 * e);
+    }
+}
+
+TEST_CASE_TEMPLATE("slerp of identical, nearly identical and antipodal inputs", Q, ANIMA_QUAT_TYPES) {
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    rng r(33);
+    for (int i = 0; i < 20; ++i) {
+        const vec axis = r.unit_vector();
+        const lq q = i == 0 ? lq{1, 0, 0, 0} : r.unit_lq();
+        const Q a = from_lq<Q>(q), q2 = r.unit<Q>();
+        for (T t : {T(0), T(0.25), T(0.5), T(1), T(1.75)}) {
+            CAPTURE(t);
+            for (const Q& s : {anima::slerp(a, a, t), anima::slerp(a, neg(a), t)}) {
+                CHECK(finite(s));
+                CHECK(diff_up_to_sign(s, a) <= 2 * e);
+            }
+            CHECK(diff_up_to_sign(anima::slerp(a, neg(q2), t), anima::slerp(a, q2, t)) <= 2 * e);
+        }
+        // From 1e-9 rad apart up, across the switch from a series to sin(k theta) / sin(theta):
+        // t is honoured (no early-out) and the result is exact to a few ulps.
+        for (ld angle : {1e-9L, 1e-6L, 1e-4L, 5e-4L, 1e-3L, 0.01L, 0.05L, 0.1L, 0.2L}) {
+            const Q b = from_lq<Q>(q * rot(angle, axis));
+            for (T t : {T(0), T(0.25), T(0.5), T(1), T(1.75)}) {
+                CAPTURE(angle);
+                CAPTURE(t);
+                const Q s = anima::slerp(a, b, t);
+                const lq ref = ref_slerp(to_lq(a), to_lq(b), t), p = to_lq(s);
+                CHECK(finite(s));
+                CHECK(norm_error(s) <= 2 * e);
+                CHECK(diff(s, ref) <= 2 * e);
+                CHECK(std::abs(angle_between(to_lq(a), p) - t * angle_between(to_lq(a), to_lq(b))) <= 4 * e);
+                if (i == 0)  // from the identity: vector part sin(t angle / 2) axis, relative precision
+                    CHECK(vdiff(vec{p.x, p.y, p.z}, vec{ref.x, ref.y, ref.z}) <=
+                          4 * e * std::sqrt(ref.x * ref.x + ref.y * ref.y + ref.z * ref.z));
+            }
+        }
+    }
+}
+
+TEST_CASE_TEMPLATE("squad interpolates its keys and matches glm::squad", Q, ANIMA_QUAT_TYPES) {
+    using T = scalar<Q>;
+    using G = glm::qua<T>;
+    const T e = eps<T>();
+    rng r(34);
+    for (int run = 0; run < 10; ++run) {
+        const std::vector<Q> q = walk<Q>(r, 5);
+        std::vector<Q> s;
+        std::vector<G> glm_s;
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            const Q& prev = q[i == 0 ? 0 : i - 1];
+            const Q& next = q[i + 1 == q.size() ? i : i + 1];
+            s.push_back(anima::squad_control_point(prev, q[i], next));
+            glm_s.push_back(glm::intermediate(to_glm(prev), to_glm(q[i]), to_glm(next)));
+            CHECK(diff_up_to_sign(s[i], glm_s[i]) <= 16 * e);
+            // Neighbours on the other side of the double cover give the same control point.
+            CHECK(diff(anima::squad_control_point(neg(prev), q[i], next), s[i]) <= 2 * e);
+            CHECK(diff(anima::squad_control_point(prev, q[i], neg(next)), s[i]) <= 2 * e);
+            CHECK(diff_up_to_sign(anima::squad_control_point(neg(prev), neg(q[i]), neg(next)), s[i]) <=
+                  2 * e);
+        }
+        // At an end (prev = q) the formula reduces to q (q^-1 next)^(-1/4).
+        CHECK(diff(s[0], anima::slerp(q[0], q[1], T(-0.25))) <= 8 * e);
+        for (std::size_t i = 0; i + 1 < q.size(); ++i) {
+            CHECK(diff(anima::squad(q[i], q[i + 1], s[i], s[i + 1], T(0)), q[i]) <= 2 * e);
+            CHECK(diff(anima::squad(q[i], q[i + 1], s[i], s[i + 1], T(1)), q[i + 1]) <= 2 * e);
+            for (T t : {T(0.1), T(0.3), T(0.5), T(0.8), T(0.95)}) {
+                const G ref = glm::squad(to_glm(q[i]), to_glm(q[i + 1]), glm_s[i], glm_s[i + 1], t);
+                CHECK(diff(anima::squad(q[i], q[i + 1], s[i], s[i + 1], t), ref) <= 64 * e);
+            }
+        }
+    }
+}
+
+namespace {
+/// Angular velocity at the start (t = 0) or end (t = 1) of a squad segment:
+/// one-sided differences over h and 2h, Richardson-extrapolated to O(h^2).
+template <class Q>
+vec squad_rate(const Q& a, const Q& b, const Q& sa, const Q& sb, bool at_end, scalar<Q> h) {
+    using T = scalar<Q>;
+    const auto at = [&](T t) { return anima::squad(a, b, sa, sb, at_end ? T(1) - t : t); };
+    const auto d1 = to_vec(anima::angular_velocity(at(0), at(h), h));
+    const auto d2 = to_vec(anima::angular_velocity(at(0), at(2 * h), 2 * h));
+    const ld sign = at_end ? -1 : 1;
+    return {sign * (2 * d1[0] - d2[0]), sign * (2 * d1[1] - d2[1]), sign * (2 * d1[2] - d2[2])};
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("squad with Shoemake control points has continuous angular velocity", Q,
+                   ANIMA_QUAT_TYPES) {
+    using T = scalar<Q>;
+    const bool dbl = sizeof(T) == sizeof(double);
+    const T h = dbl ? T(2e-5) : T(5e-3);
+    const ld tol = dbl ? 1e-6L : 3e-3L;  // relative: O(h^2) truncation, eps / h rounding
+    rng r(35);
+    for (int run = 0; run < 10; ++run) {
+        const std::vector<Q> q = walk<Q>(r, 5);
+        std::vector<Q> s;
+        for (std::size_t i = 0; i < q.size(); ++i)
+            s.push_back(
+                anima::squad_control_point(q[i == 0 ? 0 : i - 1], q[i], q[i + 1 == q.size() ? i : i + 1]));
+        for (std::size_t i = 1; i + 1 < q.size(); ++i) {
+            CAPTURE(i);
+            const vec before = squad_rate(q[i - 1], q[i], s[i - 1], s[i], true, h);
+            const vec after = squad_rate(q[i], q[i + 1], s[i], s[i + 1], false, h);
+            CHECK(vdiff(before, after) <= tol * vnorm(after));
+            // The same measurement detects a kink: with the keys as control points
+            // (piecewise slerp) the velocity jumps at every key of a curved path.
+            const vec b0 = squad_rate(q[i - 1], q[i], q[i - 1], q[i], true, h);
+            const vec a0 = squad_rate(q[i], q[i + 1], q[i], q[i + 1], false, h);
+            CHECK(vdiff(b0, a0) > 0.1L * vnorm(a0));
+        }
+    }
+}
