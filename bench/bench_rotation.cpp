@@ -1,0 +1,317 @@
+// Rotation interpolation throughput: anima next to GLM's and Eigen's own
+// functions, on the same precomputed inputs in the same run.
+//
+//   BM_slerp<anima, glm, T>                 anima::slerp on glm::qua<T>
+//   BM_slerp<glm_native, T>                 glm::slerp
+//   BM_slerp<anima, eigen, T>               anima::slerp on Eigen::Quaternion<T>
+//   BM_slerp<eigen_native, T>               Eigen's q1.slerp(t, q2)
+//   BM_squad<anima, glm, T>                 anima::squad, anima control points
+//   BM_squad<glm_native, T>                 glm::squad, glm::intermediate control points
+//   BM_squad_control_point<anima, glm, T>   anima::squad_control_point
+//   BM_squad_control_point<glm_native, T>   glm::intermediate
+//
+// Each iteration processes a batch of 4096 items (items/s is per quaternion
+// produced). slerp pairs are uniformly distributed unit quaternions, squad
+// keys a sequence of rotations up to 90 degrees apart, t uniform in [0, 1],
+// all from a fixed seed. Before anything is timed, every anima result
+// is checked against the peer's on the whole batch (up to the sign of the
+// quaternion); the program aborts if they disagree.
+
+// glm::squad and glm::intermediate live in GLM's experimental extensions.
+#define GLM_ENABLE_EXPERIMENTAL
+
+#include <anima/rotation/quat_traits.hpp>
+#include <anima/rotation/slerp.hpp>
+#include <anima/rotation/squad.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Geometry>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtx/quaternion.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace {
+
+constexpr std::size_t batch_size = 4096;
+
+template <class T>
+using gquat = glm::qua<T, glm::defaultp>;
+template <class T>
+using equat = Eigen::Quaternion<T>;
+
+template <class T>
+const char* type_name();
+template <>
+const char* type_name<float>() {
+    return "float";
+}
+template <>
+const char* type_name<double>() {
+    return "double";
+}
+
+template <class T>
+gquat<T> make_glm(T w, T x, T y, T z) {
+    gquat<T> q;
+    q.w = w;
+    q.x = x;
+    q.y = y;
+    q.z = z;
+    return q;
+}
+
+/// All inputs of one scalar type, built once and checked before timing.
+template <class T>
+struct inputs {
+    // slerp: pairs (a[i], b[i]) and t[i]
+    std::vector<gquat<T>> ga, gb;
+    std::vector<equat<T>> ea, eb;
+    std::vector<T> t;
+    // squad: a sequence of batch_size + 3 keys, each within 90 degrees of (and
+    // in the hemisphere of) the previous one; segment i runs from key i + 1 to
+    // key i + 2.
+    std::vector<gquat<T>> keys;
+    std::vector<gquat<T>> anima_cp, glm_cp;  // control point of every key but the ends
+};
+
+[[noreturn]] void fail(const std::string& what) {
+    std::fprintf(stderr, "bench_rotation: %s\n", what.c_str());
+    std::abort();
+}
+
+/// Largest component difference of two quaternions, up to sign (q ~ -q).
+template <class T>
+T quat_distance(const gquat<T>& a, const gquat<T>& b) {
+    const T plus = std::max({std::abs(a.w - b.w), std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.z - b.z)});
+    const T minus = std::max({std::abs(a.w + b.w), std::abs(a.x + b.x), std::abs(a.y + b.y), std::abs(a.z + b.z)});
+    return std::min(plus, minus);
+}
+template <class T>
+gquat<T> to_glm(const equat<T>& q) {
+    return make_glm(q.w(), q.x(), q.y(), q.z());
+}
+
+template <class T>
+T tolerance() {
+    return std::is_same_v<T, float> ? T(1e-4) : T(1e-9);
+}
+
+template <class T>
+void check(const char* what, T worst) {
+    if (!(worst <= tolerance<T>()))
+        fail(std::string(what) + "<" + type_name<T>() + ">: anima and the peer differ by " + std::to_string(worst));
+}
+
+template <class T>
+inputs<T> make_inputs() {
+    std::mt19937_64 rng(20240601);
+    std::normal_distribution<double> normal;
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    const auto random_unit = [&] {
+        const double w = normal(rng), x = normal(rng), y = normal(rng), z = normal(rng);
+        const T n = static_cast<T>(std::sqrt(w * w + x * x + y * y + z * z));
+        return make_glm(static_cast<T>(w) / n, static_cast<T>(x) / n, static_cast<T>(y) / n, static_cast<T>(z) / n);
+    };
+
+    inputs<T> in;
+    for (std::size_t i = 0; i < batch_size; ++i) {
+        const gquat<T> a = random_unit(), b = random_unit();
+        in.ga.push_back(a);
+        in.gb.push_back(b);
+        in.ea.emplace_back(a.w, a.x, a.y, a.z);
+        in.eb.emplace_back(b.w, b.x, b.y, b.z);
+        in.t.push_back(static_cast<T>(uniform(rng)));
+    }
+    // Keys like an animation's: each one a random rotation of up to 90 degrees
+    // away from the previous, about a random axis.
+    in.keys.push_back(random_unit());
+    while (in.keys.size() < batch_size + 3) {
+        const double half = 0.25 * 3.14159265358979323846 * uniform(rng);
+        double ax = normal(rng), ay = normal(rng), az = normal(rng);
+        const double n = std::sqrt(ax * ax + ay * ay + az * az);
+        ax /= n, ay /= n, az /= n;
+        const double s = std::sin(half);
+        const gquat<T> step = make_glm(static_cast<T>(std::cos(half)), static_cast<T>(s * ax), static_cast<T>(s * ay),
+                                       static_cast<T>(s * az));
+        in.keys.push_back(glm::normalize(in.keys.back() * step));
+    }
+    // Control points of keys 1 .. batch_size + 1.
+    in.anima_cp.resize(in.keys.size());
+    in.glm_cp.resize(in.keys.size());
+    for (std::size_t i = 1; i + 1 < in.keys.size(); ++i) {
+        in.anima_cp[i] = anima::squad_control_point(in.keys[i - 1], in.keys[i], in.keys[i + 1]);
+        in.glm_cp[i] = glm::intermediate(in.keys[i - 1], in.keys[i], in.keys[i + 1]);
+    }
+
+    // The comparison is only meaningful if both sides compute the same thing.
+    T slerp_glm = 0, slerp_eigen = 0, squad = 0, cp = 0;
+    for (std::size_t i = 0; i < batch_size; ++i) {
+        const T t = in.t[i];
+        slerp_glm = std::max(slerp_glm, quat_distance(anima::slerp(in.ga[i], in.gb[i], t), glm::slerp(in.ga[i], in.gb[i], t)));
+        slerp_eigen = std::max(slerp_eigen, quat_distance(to_glm(anima::slerp(in.ea[i], in.eb[i], t)),
+                                                          to_glm(equat<T>(in.ea[i].slerp(t, in.eb[i])))));
+        const std::size_t k = i + 1;
+        cp = std::max(cp, quat_distance(in.anima_cp[k], in.glm_cp[k]));
+        squad = std::max(squad, quat_distance(anima::squad(in.keys[k], in.keys[k + 1], in.anima_cp[k], in.anima_cp[k + 1], t),
+                                              glm::squad(in.keys[k], in.keys[k + 1], in.glm_cp[k], in.glm_cp[k + 1], t)));
+    }
+    check("slerp (glm::slerp)", slerp_glm);
+    check("slerp (Eigen slerp)", slerp_eigen);
+    check("squad_control_point (glm::intermediate)", cp);
+    check("squad (glm::squad)", squad);
+    return in;
+}
+
+template <class T>
+const inputs<T>& data() {
+    static const inputs<T> in = make_inputs<T>();
+    return in;
+}
+
+template <class Q, class T>
+void accumulate(T& sink, const Q& q) {
+    sink += anima::quat_traits<Q>::w(q) + anima::quat_traits<Q>::x(q) + anima::quat_traits<Q>::y(q) +
+            anima::quat_traits<Q>::z(q);
+}
+
+void finish(benchmark::State& state) {
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(batch_size));
+}
+
+// ---------------------------------------------------------------------------
+// slerp
+
+template <class T>
+void slerp_anima_glm(benchmark::State& state) {
+    const auto& in = data<T>();
+    for (auto _ : state) {
+        T sink = 0;
+        for (std::size_t i = 0; i < batch_size; ++i) accumulate(sink, anima::slerp(in.ga[i], in.gb[i], in.t[i]));
+        benchmark::DoNotOptimize(sink);
+    }
+    finish(state);
+}
+
+template <class T>
+void slerp_glm(benchmark::State& state) {
+    const auto& in = data<T>();
+    for (auto _ : state) {
+        T sink = 0;
+        for (std::size_t i = 0; i < batch_size; ++i) accumulate(sink, glm::slerp(in.ga[i], in.gb[i], in.t[i]));
+        benchmark::DoNotOptimize(sink);
+    }
+    finish(state);
+}
+
+template <class T>
+void slerp_anima_eigen(benchmark::State& state) {
+    const auto& in = data<T>();
+    for (auto _ : state) {
+        T sink = 0;
+        for (std::size_t i = 0; i < batch_size; ++i) accumulate(sink, anima::slerp(in.ea[i], in.eb[i], in.t[i]));
+        benchmark::DoNotOptimize(sink);
+    }
+    finish(state);
+}
+
+template <class T>
+void slerp_eigen(benchmark::State& state) {
+    const auto& in = data<T>();
+    for (auto _ : state) {
+        T sink = 0;
+        for (std::size_t i = 0; i < batch_size; ++i)
+            accumulate(sink, equat<T>(in.ea[i].slerp(in.t[i], in.eb[i])));
+        benchmark::DoNotOptimize(sink);
+    }
+    finish(state);
+}
+
+// ---------------------------------------------------------------------------
+// squad (control points precomputed by each library's own function)
+
+template <class T>
+void squad_anima(benchmark::State& state) {
+    const auto& in = data<T>();
+    for (auto _ : state) {
+        T sink = 0;
+        for (std::size_t i = 0; i < batch_size; ++i) {
+            const std::size_t k = i + 1;
+            accumulate(sink, anima::squad(in.keys[k], in.keys[k + 1], in.anima_cp[k], in.anima_cp[k + 1], in.t[i]));
+        }
+        benchmark::DoNotOptimize(sink);
+    }
+    finish(state);
+}
+
+template <class T>
+void squad_glm(benchmark::State& state) {
+    const auto& in = data<T>();
+    for (auto _ : state) {
+        T sink = 0;
+        for (std::size_t i = 0; i < batch_size; ++i) {
+            const std::size_t k = i + 1;
+            accumulate(sink, glm::squad(in.keys[k], in.keys[k + 1], in.glm_cp[k], in.glm_cp[k + 1], in.t[i]));
+        }
+        benchmark::DoNotOptimize(sink);
+    }
+    finish(state);
+}
+
+template <class T>
+void control_point_anima(benchmark::State& state) {
+    const auto& in = data<T>();
+    for (auto _ : state) {
+        T sink = 0;
+        for (std::size_t i = 0; i < batch_size; ++i)
+            accumulate(sink, anima::squad_control_point(in.keys[i], in.keys[i + 1], in.keys[i + 2]));
+        benchmark::DoNotOptimize(sink);
+    }
+    finish(state);
+}
+
+template <class T>
+void control_point_glm(benchmark::State& state) {
+    const auto& in = data<T>();
+    for (auto _ : state) {
+        T sink = 0;
+        for (std::size_t i = 0; i < batch_size; ++i)
+            accumulate(sink, glm::intermediate(in.keys[i], in.keys[i + 1], in.keys[i + 2]));
+        benchmark::DoNotOptimize(sink);
+    }
+    finish(state);
+}
+
+// ---------------------------------------------------------------------------
+// Registration: each anima benchmark directly above its peer.
+
+template <class T>
+void register_all() {
+    const std::string ty = type_name<T>();
+    benchmark::RegisterBenchmark(("BM_slerp<anima, glm, " + ty + ">").c_str(), slerp_anima_glm<T>);
+    benchmark::RegisterBenchmark(("BM_slerp<glm_native, " + ty + ">").c_str(), slerp_glm<T>);
+    benchmark::RegisterBenchmark(("BM_slerp<anima, eigen, " + ty + ">").c_str(), slerp_anima_eigen<T>);
+    benchmark::RegisterBenchmark(("BM_slerp<eigen_native, " + ty + ">").c_str(), slerp_eigen<T>);
+    benchmark::RegisterBenchmark(("BM_squad<anima, glm, " + ty + ">").c_str(), squad_anima<T>);
+    benchmark::RegisterBenchmark(("BM_squad<glm_native, " + ty + ">").c_str(), squad_glm<T>);
+    benchmark::RegisterBenchmark(("BM_squad_control_point<anima, glm, " + ty + ">").c_str(), control_point_anima<T>);
+    benchmark::RegisterBenchmark(("BM_squad_control_point<glm_native, " + ty + ">").c_str(), control_point_glm<T>);
+}
+
+const bool registered = [] {
+    register_all<float>();
+    register_all<double>();
+    return true;
+}();
+
+}  // namespace
