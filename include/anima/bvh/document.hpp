@@ -98,7 +98,7 @@ void encode_rotation(const quat4<T>& q, const std::vector<axis>& axes, const T* 
         if (std::sqrt(std::max(T(0), dot4(q, q) - q.w * q.w - s * s)) > tolerance) fail();
         T a = degrees(T(2) * std::atan2(s, q.w));
         a = std::remainder(a, T(360));
-        out[0] = previous ? unwrap_degrees(a, previous[0]) : a;
+        out[0] = previous && continuous ? unwrap_degrees(a, previous[0]) : a;
         return;
     }
     // Two or three axes: decompose with the full Tait-Bryan order; with two

@@ -99,7 +99,7 @@ private:
     T number(std::string_view t, std::size_t line, const char* what) {
         if (t.empty()) fail(line, std::string("file ends where ") + what + " was expected");
         std::string_view u = t;
-        if (u.size() > 1 && u[0] == '+') u.remove_prefix(1);
+        if (u.size() > 1 && u[0] == '+' && u[1] != '-' && u[1] != '+') u.remove_prefix(1);
         double v = 0;
         const auto r = std::from_chars(u.data(), u.data() + u.size(), v);
         if (r.ec == std::errc::result_out_of_range && r.ptr == u.data() + u.size()) {
@@ -156,6 +156,8 @@ private:
                 brace = true;
             }
             if (name.empty()) fail(line, "joint without a name");
+            if (name.find_first_of("{}") != std::string_view::npos)
+                fail(line, "joint name '" + std::string(name) + "' contains a brace");
             if (!brace && next() != "{") fail(tok_line_, "expected '{' after joint '" + std::string(name) + "'");
             stack.push_back(open_joint{std::string(name), line, parent, -1, false, false, {}});
             offsets.emplace_back(Eigen::Matrix<T, 3, 1>::Zero());
@@ -181,6 +183,7 @@ private:
                     fail(line, "CHANNELS count '" + std::string(c) + "' is not a number from 0 to 6");
                 for (int k = 0; k < n; ++k) {
                     const std::string_view name = next();
+                    if (name.empty()) fail(line_, "file ends inside the CHANNELS of joint '" + j.name + "'");
                     const auto ch = parse_channel(name);
                     if (!ch)
                         fail(tok_line_, "CHANNELS of joint '" + j.name + "' declares " + std::to_string(n) +
@@ -199,10 +202,15 @@ private:
                 const std::size_t line = tok_line_;
                 if (!keyword(next(), "Site")) fail(line, "expected 'End Site'");
                 rest_of_line();  // some exporters name the end site
-                if (next() != "{") fail(tok_line_, "expected '{' after End Site");
-                if (!keyword(next(), "OFFSET")) fail(tok_line_, "End Site of joint '" + j.name + "' has no OFFSET");
+                const auto end_site_token = [&] {
+                    const std::string_view e = next();
+                    if (e.empty()) fail(line_, "file ends inside the End Site of joint '" + j.name + "'");
+                    return e;
+                };
+                if (end_site_token() != "{") fail(tok_line_, "expected '{' after End Site");
+                if (!keyword(end_site_token(), "OFFSET")) fail(tok_line_, "End Site of joint '" + j.name + "' has no OFFSET");
                 const auto o = offset<T>("End Site OFFSET value");
-                if (next() != "}") fail(tok_line_, "expected '}' to close the End Site of joint '" + j.name + "'");
+                if (end_site_token() != "}") fail(tok_line_, "expected '}' to close the End Site of joint '" + j.name + "'");
                 if (sk[static_cast<std::size_t>(j.index)].end_site)
                     fail(line, "joint '" + j.name + "' has a second End Site");
                 sk.set_end_site(static_cast<std::size_t>(j.index), o);
@@ -220,6 +228,7 @@ private:
     void parse_motion(bvh_document<T>& doc) {
         // "Frames: N" (also "Frames:N").
         std::string_view t = next();
+        if (t.empty()) fail(line_, "file ends after MOTION (expected 'Frames:')");
         std::string_view count;
         if (keyword(t, "Frames:")) {
             count = next();
@@ -233,8 +242,11 @@ private:
         const auto r = std::from_chars(count.data(), count.data() + count.size(), frames);
         if (r.ec != std::errc() || r.ptr != count.data() + count.size())
             fail(frames_line, "frame count '" + std::string(count) + "' is not a non-negative integer");
-        if (!keyword(next(), "Frame")) fail(tok_line_, "expected 'Frame Time:' after the frame count");
         t = next();
+        if (t.empty()) fail(line_, "file ends before 'Frame Time:'");
+        if (!keyword(t, "Frame")) fail(tok_line_, "expected 'Frame Time:' after the frame count");
+        t = next();
+        if (t.empty()) fail(line_, "file ends inside 'Frame Time:'");
         std::string_view time;
         if (keyword(t, "Time:")) {
             time = next();
@@ -249,6 +261,10 @@ private:
         if (pos_ < s_.size()) ++pos_, ++line_;  // past the newline
 
         const std::size_t nc = doc.skeleton.channel_count();
+        // Without channels no line holds a frame, so nothing would bound the
+        // count the header claims.
+        if (nc == 0 && frames > 0)
+            fail(frames_line, "'Frames: " + std::to_string(frames) + "' but no joint has CHANNELS");
         // Each value takes at least two bytes: never trust the header to size memory.
         const std::size_t room = nc ? (s_.size() - pos_) / (2 * nc) + 1 : 0;
         doc.values.reserve(static_cast<std::size_t>(std::min<unsigned long long>(frames, room)) * nc);
@@ -278,7 +294,6 @@ private:
             }
             if (pos_ < s_.size()) ++pos_, ++line_;
         }
-        if (nc == 0) done = static_cast<std::size_t>(frames);  // nothing to read per frame
         if (done != frames)
             fail(line_, "file ends after " + std::to_string(done) + " frames, 'Frames: " + std::to_string(frames) +
                             "' (line " + std::to_string(frames_line) + ") promised more");

@@ -61,6 +61,10 @@ std::string format_bvh(const bvh_document<T>& doc, const bvh_write_options& opti
     const int dec = options.decimals;
     if (dec < 0 || dec > 17) throw invalid_argument("anima::format_bvh: decimals must be 0..17");
     if (sk.empty()) throw invalid_argument("anima::format_bvh: the skeleton has no joints");
+    for (const auto& j : sk.joints())
+        if (j.name.find_first_of("{}\r\n") != std::string::npos || j.name.front() == ' ' || j.name.back() == ' ')
+            throw invalid_argument("anima::format_bvh: joint name '" + j.name +
+                                   "' cannot be written to BVH (braces, line breaks or edge spaces)");
     const std::size_t nc = sk.channel_count();
     if (doc.values.size() != doc.frames * nc)
         throw invalid_argument("anima::format_bvh: " + std::to_string(doc.values.size()) + " values for " +

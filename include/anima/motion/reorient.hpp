@@ -41,20 +41,22 @@ clip<T> rotate_clip(const clip<T>& c, const Eigen::Quaternion<T>& r_in) {
     return out;
 }
 
-/// The proper rotation taking direction `from` to direction `to` (a quarter
-/// turn, a half turn about an orthogonal axis, or the identity).
+/// The proper rotation taking direction `from` to direction `to`: the
+/// identity, a quarter turn about their cross product, or a half turn about
+/// an axis orthogonal to both.
 template <class T>
 Eigen::Quaternion<T> axis_change(signed_axis from, signed_axis to) {
     Eigen::Matrix<T, 3, 1> a = Eigen::Matrix<T, 3, 1>::Zero(), b = Eigen::Matrix<T, 3, 1>::Zero();
     a[static_cast<int>(from.axis)] = T(from.sign);
     b[static_cast<int>(to.axis)] = T(to.sign);
-    if (a.dot(b) < T(-0.5)) {
-        // Opposite directions: half turn about any axis orthogonal to both.
+    const T d = a.dot(b);
+    if (d > T(0.5)) return Eigen::Quaternion<T>::Identity();
+    if (d < T(-0.5)) {
         Eigen::Matrix<T, 3, 1> o = Eigen::Matrix<T, 3, 1>::Zero();
         o[(static_cast<int>(from.axis) + 1) % 3] = T(1);
         return Eigen::Quaternion<T>(Eigen::AngleAxis<T>(pi<T>, o));
     }
-    return Eigen::Quaternion<T>::FromTwoVectors(a, b);
+    return Eigen::Quaternion<T>(Eigen::AngleAxis<T>(pi<T> / T(2), a.cross(b)));
 }
 
 /// The clip with its up axis changed from `from` to `to` (e.g. +Y to +Z).
