@@ -8,3 +8,4 @@
 #include <anima/core/version.hpp>
 #include <anima/motion.hpp>
 #include <anima/rotation.hpp>
+#include <anima/transition.hpp>

@@ -8,5 +8,6 @@
 #include <anima/motion/finite_difference.hpp>
 #include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/reorient.hpp>
+#include <anima/motion/resample.hpp>
 #include <anima/motion/skeleton.hpp>
 #include <anima/motion/velocities.hpp>

@@ -1,0 +1,57 @@
+// Resampling a clip to another frame time: rotations by slerp and
+// translations linearly between the two nearest source frames.
+#pragma once
+
+#include <anima/core/error.hpp>
+#include <anima/motion/clip.hpp>
+#include <anima/rotation/slerp.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+namespace anima {
+
+namespace detail {
+/// The frame of a resampled clip r at the time of frame f of its source,
+/// whose frame time was source_frame_time.
+template <class T>
+std::size_t resampled_frame(std::size_t f, T source_frame_time, const clip<T>& r) {
+    if (r.frames() == 0) return 0;
+    const auto g = static_cast<std::size_t>(std::lround(static_cast<T>(f) * source_frame_time / r.frame_time()));
+    return std::min(g, r.frames() - 1);
+}
+}  // namespace detail
+
+/// The clip sampled every frame_time seconds over the same duration (the last
+/// output frame is the last whole step that fits). An empty or one-frame clip
+/// keeps its frames.
+template <class T>
+clip<T> resample(const clip<T>& c, T frame_time) {
+    if (!(frame_time > T(0)) || !std::isfinite(frame_time))
+        throw invalid_argument("anima::resample: frame time must be positive and finite, got " +
+                               std::to_string(static_cast<double>(frame_time)));
+    if (c.frames() < 2) {
+        clip<T> out = c;
+        out.set_frame_time(frame_time);
+        return out;
+    }
+    // Tolerate rounding so that e.g. 1/120 -> 1/120 keeps the last frame.
+    const T steps = c.duration() / frame_time;
+    const auto n = static_cast<std::size_t>(std::floor(steps + T(1e-6))) + 1;
+    clip<T> out(c.skeleton(), n, frame_time);
+    for (std::size_t f = 0; f < n; ++f) {
+        const T s = std::min(static_cast<T>(f) * frame_time / c.frame_time(), static_cast<T>(c.frames() - 1));
+        const auto i = std::min(static_cast<std::size_t>(s), c.frames() - 2);
+        const T u = s - static_cast<T>(i);
+        for (std::size_t j = 0; j < c.joints(); ++j) {
+            out.set_rotation(f, j, slerp(c.rotation(i, j), c.rotation(i + 1, j), u));
+            if (c.skeleton().translation_slot(j) >= 0)
+                out.set_translation(f, j, (T(1) - u) * c.translation(i, j) + u * c.translation(i + 1, j));
+        }
+    }
+    return out;
+}
+
+}  // namespace anima

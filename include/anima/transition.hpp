@@ -1,0 +1,11 @@
+// Transitions between clips: the variable-timing hierarchical method and the
+// baselines it is compared with (direct cut, crossfade, inertialization).
+#pragma once
+
+#include <anima/transition/baselines.hpp>
+#include <anima/transition/classify.hpp>
+#include <anima/transition/joint_roles.hpp>
+#include <anima/transition/metrics.hpp>
+#include <anima/transition/placement.hpp>
+#include <anima/transition/timing.hpp>
+#include <anima/transition/variable_timing_transition.hpp>

@@ -1,0 +1,98 @@
+// Measures of how smooth a transition is, for comparing methods on the same
+// clips: its length, the peaks of joint angular acceleration and jerk and of
+// root acceleration around it, and how much the supporting foot slides.
+#pragma once
+
+#include <anima/core/error.hpp>
+#include <anima/motion/clip.hpp>
+#include <anima/motion/figure.hpp>
+#include <anima/motion/finite_difference.hpp>
+#include <anima/motion/forward_kinematics.hpp>
+#include <anima/rotation/angular_velocity.hpp>
+#include <anima/transition/joint_roles.hpp>
+#include <anima/transition/variable_timing_transition.hpp>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace anima {
+
+template <class T>
+struct transition_quality {
+    T length = 0;                     ///< s, from the last frame of A to the first of B
+    T peak_angular_acceleration = 0;  ///< rad/s^2, over all non-finger joints
+    T peak_angular_jerk = 0;          ///< rad/s^3
+    T peak_root_acceleration = 0;     ///< m/s^2
+    T foot_slide = 0;                 ///< m/s, mean horizontal speed of the lowest foot joint
+};
+
+/// Measures a joined clip over its transition plus `margin` frames on each
+/// side (so that a jump at either end is counted). Derivatives are finite
+/// differences at the clip's frame rate; lengths are converted to metres with
+/// metres_per_unit.
+template <class T>
+transition_quality<T> measure_transition(const joined_clip<T>& joined, const std::vector<joint_role>& roles,
+                                         signed_axis up, double metres_per_unit, std::size_t margin = 12) {
+    const clip<T>& c = joined.motion;
+    if (roles.size() != c.joints())
+        throw invalid_argument("anima::measure_transition: " + std::to_string(roles.size()) + " roles for " +
+                               std::to_string(c.joints()) + " joints");
+    if (joined.start_frame > joined.end_frame || joined.end_frame >= c.frames())
+        throw invalid_argument("anima::measure_transition: transition frames [" + std::to_string(joined.start_frame) +
+                               ", " + std::to_string(joined.end_frame) + "] are not inside the clip (" +
+                               std::to_string(c.frames()) + " frames)");
+    if (!(metres_per_unit > 0)) throw invalid_argument("anima::measure_transition: metres_per_unit must be positive");
+    transition_quality<T> q;
+    const T dt = c.frame_time();
+    const T m = static_cast<T>(metres_per_unit);
+    q.length = dt * static_cast<T>(joined.end_frame - joined.start_frame);
+    const std::size_t first = joined.start_frame > margin ? joined.start_frame - margin : 0;
+    const std::size_t last = std::min(joined.end_frame + margin, c.frames() - 1);
+    const auto n = static_cast<Eigen::Index>(last - first + 1);
+    if (n < 4) return q;
+
+    // Angular velocity per one-frame step, then differences of it.
+    for (std::size_t j = 0; j < c.joints(); ++j) {
+        if (roles[j] == joint_role::finger) continue;
+        Eigen::Matrix<T, Eigen::Dynamic, 3> w(n - 1, 3);
+        for (Eigen::Index k = 0; k + 1 < n; ++k)
+            w.row(k) = angular_velocity(c.rotation(first + static_cast<std::size_t>(k), j),
+                                        c.rotation(first + static_cast<std::size_t>(k) + 1, j), dt)
+                           .transpose();
+        const Eigen::Matrix<T, Eigen::Dynamic, 3> alpha = (w.bottomRows(n - 2) - w.topRows(n - 2)) / dt;
+        const Eigen::Matrix<T, Eigen::Dynamic, 3> jerk = (alpha.bottomRows(n - 3) - alpha.topRows(n - 3)) / dt;
+        q.peak_angular_acceleration = std::max(q.peak_angular_acceleration, alpha.rowwise().norm().maxCoeff());
+        q.peak_angular_jerk = std::max(q.peak_angular_jerk, jerk.rowwise().norm().maxCoeff());
+    }
+
+    const auto P = global_positions(c.slice(first, last + 1));
+    const auto V = time_derivative(P, dt);
+    const auto A = time_derivative(V.leftCols(3).eval(), dt);
+    q.peak_root_acceleration = A.rowwise().norm().maxCoeff() * m;
+
+    std::vector<std::size_t> feet;
+    for (std::size_t j = 0; j < roles.size(); ++j)
+        if (roles[j] == joint_role::foot) feet.push_back(j);
+    if (!feet.empty()) {
+        const int k = static_cast<int>(up.axis);
+        T sum = 0;
+        for (Eigen::Index f = 0; f < n; ++f) {
+            std::size_t lowest = feet[0];
+            for (std::size_t j : feet)
+                if (up.sign * P(f, static_cast<Eigen::Index>(3 * j) + k) <
+                    up.sign * P(f, static_cast<Eigen::Index>(3 * lowest) + k))
+                    lowest = j;
+            Eigen::Matrix<T, 3, 1> v = V.row(f).template segment<3>(static_cast<Eigen::Index>(3 * lowest)).transpose();
+            v[k] = 0;
+            sum += v.norm();
+        }
+        q.foot_slide = sum / static_cast<T>(n) * m;
+    }
+    return q;
+}
+
+}  // namespace anima

@@ -1,0 +1,110 @@
+// Shared pieces of every transition: checking two clips can be joined, the
+// root's velocity and acceleration at a frame, and placing the next clip in
+// world space with its heading turned to match.
+#pragma once
+
+#include <anima/core/error.hpp>
+#include <anima/motion/clip.hpp>
+#include <anima/motion/figure.hpp>
+#include <anima/rotation/swing_twist.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cstddef>
+#include <string>
+
+namespace anima {
+
+/// Throws anima::invalid_argument naming the first joint whose name, parent
+/// or position channels differ between the two skeletons. Offsets (bone
+/// lengths) and rotation channel orders may differ.
+template <class T>
+void check_same_hierarchy(const skeleton<T>& a, const skeleton<T>& b) {
+    const std::size_t n = std::min(a.size(), b.size());
+    for (std::size_t j = 0; j < n; ++j) {
+        if (a[j].name != b[j].name || a[j].parent != b[j].parent ||
+            a.has_position_channels(j) != b.has_position_channels(j))
+            throw invalid_argument("anima::check_same_hierarchy: the clips' hierarchies differ at joint " + std::to_string(j) + " ('" +
+                                   a[j].name + "' vs '" + b[j].name + "')");
+    }
+    if (a.size() != b.size())
+        throw invalid_argument("anima::check_same_hierarchy: the clips' hierarchies differ: " + std::to_string(a.size()) + " vs " +
+                               std::to_string(b.size()) + " joints (first extra joint '" +
+                               (a.size() > n ? a[n].name : b[n].name) + "')");
+}
+
+/// Velocity and acceleration of a point.
+template <class T>
+struct point_motion {
+    Eigen::Matrix<T, 3, 1> velocity = Eigen::Matrix<T, 3, 1>::Zero();
+    Eigen::Matrix<T, 3, 1> acceleration = Eigen::Matrix<T, 3, 1>::Zero();
+};
+
+/// Root velocity and acceleration at `frame` from the frames up to it: a
+/// least-squares quadratic through the last `window` frames (at least 3),
+/// which tames the noise that plain second differences amplify at 120 Hz.
+/// With two frames only the velocity is estimated, with one neither.
+template <class T>
+point_motion<T> root_motion_at(const clip<T>& c, std::size_t frame, std::size_t window = 7) {
+    if (frame >= c.frames())
+        throw invalid_argument("anima::root_motion_at: frame " + std::to_string(frame) + " out of range (" +
+                               std::to_string(c.frames()) + " frames)");
+    point_motion<T> out;
+    const std::size_t count = std::min(std::max<std::size_t>(window, 3), frame + 1);
+    if (count < 2) return out;
+    const T dt = c.frame_time();
+    if (count == 2) {
+        out.velocity = (c.root_position(frame) - c.root_position(frame - 1)) / dt;
+        return out;
+    }
+    // p(s) = c0 + c1 s + c2 s^2 with s = time relative to `frame` (s <= 0).
+    Eigen::Matrix<T, Eigen::Dynamic, 3> A(static_cast<Eigen::Index>(count), 3);
+    Eigen::Matrix<T, Eigen::Dynamic, 3> y(static_cast<Eigen::Index>(count), 3);
+    for (std::size_t i = 0; i < count; ++i) {
+        const T s = -static_cast<T>(i) * dt;
+        A.row(static_cast<Eigen::Index>(i)) << T(1), s, s * s;
+        y.row(static_cast<Eigen::Index>(i)) = c.root_position(frame - i).transpose();
+    }
+    const Eigen::Matrix<T, 3, 3> coef = A.colPivHouseholderQr().solve(y);
+    out.velocity = coef.row(1).transpose();
+    out.acceleration = T(2) * coef.row(2).transpose();
+    return out;
+}
+
+/// Unit vector of a signed axis.
+template <class T>
+Eigen::Matrix<T, 3, 1> axis_vector(signed_axis a) {
+    Eigen::Matrix<T, 3, 1> v = Eigen::Matrix<T, 3, 1>::Zero();
+    v[static_cast<int>(a.axis)] = T(a.sign);
+    return v;
+}
+
+/// The turn about `up` that takes the heading of orientation `from` to that
+/// of `to` (headings are the twists about the up axis).
+template <class T>
+Eigen::Quaternion<T> heading_change(const Eigen::Quaternion<T>& from, const Eigen::Quaternion<T>& to, signed_axis up) {
+    const auto u = axis_vector<T>(up);
+    return swing_twist(to, u).second * swing_twist(from, u).second.conjugate();
+}
+
+/// Frames [first, end) of c, turned by `turn` about the vertical through the
+/// root at `first` and moved so that that root lands on `start`.
+template <class T>
+clip<T> place_clip(const clip<T>& c, std::size_t first, const Eigen::Quaternion<T>& turn,
+                   const Eigen::Matrix<T, 3, 1>& start) {
+    if (first >= c.frames())
+        throw invalid_argument("anima::place_clip: frame " + std::to_string(first) + " out of range (" +
+                               std::to_string(c.frames()) + " frames)");
+    clip<T> out = c.slice(first, c.frames());
+    const Eigen::Matrix<T, 3, 1> pivot = out.root_position(0);
+    const bool translated = out.skeleton().translation_slot(0) >= 0;
+    for (std::size_t f = 0; f < out.frames(); ++f) {
+        out.set_rotation(f, 0, turn * out.rotation(f, 0));
+        if (translated) out.set_root_position(f, turn * (out.root_position(f) - pivot) + start);
+    }
+    return out;
+}
+
+}  // namespace anima

@@ -1,0 +1,1017 @@
+// The variable-timing transition (classification, timing, per-joint
+// interpolation, root path, placement of the next clip) and the baselines it
+// is compared with, on the bundled CMU clips, the shared ones when present,
+// and synthetic clips built from them.
+#include <anima/bvh/reader.hpp>
+#include <anima/core/constants.hpp>
+#include <anima/core/error.hpp>
+#include <anima/motion/clip.hpp>
+#include <anima/motion/reorient.hpp>
+#include <anima/motion/resample.hpp>
+#include <anima/rotation/exp_log.hpp>
+#include <anima/rotation/lerp.hpp>
+#include <anima/rotation/quaternion.hpp>
+#include <anima/rotation/slerp.hpp>
+#include <anima/rotation/squad.hpp>
+#include <anima/rotation/swing_twist.hpp>
+#include <anima/transition.hpp>
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using clipd = anima::clip<double>;
+using quatd = Eigen::Quaterniond;
+using vec3 = Eigen::Vector3d;
+using anima::interpolation;
+using anima::joint_role;
+using anima::motion_class;
+constexpr double pi = anima::pi<double>;
+const vec3 up = vec3::UnitY();  // both bundled layouts are Y-up, in centimetres (Daz) / CMU units
+
+std::string bundled(const std::string& name) { return std::string(ANIMA_TEST_DATA_DIR) + "/" + name; }
+
+// The bundled run from frame 10: frame 0 is a T-pose and frames 1-5 blend out of it.
+template <class T>
+const anima::clip<T>& run() {
+    static const anima::clip<T> c = [] {
+        const auto full = anima::read_bvh<T>(bundled("run_cmu_09_01.bvh"));
+        return full.slice(10, full.frames());
+    }();
+    return c;
+}
+const clipd& walk31() {
+    static const clipd c = anima::read_bvh<double>(bundled("walk_cmu31_02_01.bvh"));
+    return c;
+}
+
+// A clip of the shared data set from frame 10, or null (with a MESSAGE) when it is absent.
+const clipd* shared_clip(const std::string& name) {
+    static std::map<std::string, clipd> cache;
+    if (const auto it = cache.find(name); it != cache.end()) return &it->second;
+    const std::string path = std::string(ANIMA_SHARED_DATA_DIR) + "/bvh/" + name;
+    if (!std::ifstream(path).good()) {
+        MESSAGE("skipped: " << path << " not found");
+        return nullptr;
+    }
+    const auto full = anima::read_bvh<double>(path);
+    return &cache.emplace(name, full.slice(10, full.frames())).first->second;
+}
+
+std::size_t index(const clipd& c, const char* name) { return c.skeleton().index_of(name); }
+quatd about(double degrees, const vec3& axis) { return quatd(Eigen::AngleAxisd(degrees * pi / 180, axis.normalized())); }
+double heading(const quatd& q) { return anima::twist_angle(q, up); }
+double angle_gap(double a, double b) { return std::abs(std::remainder(a - b, 2 * pi)); }
+
+// n copies of frame f of c.
+clipd held(const clipd& c, std::size_t f, std::size_t n) {
+    clipd out = c.slice(f, f + 1);
+    out.resize(n);
+    return out;
+}
+
+// c with joint j's rotation followed by r in every frame: its angular speeds do not change.
+clipd post_rotated(clipd c, std::size_t j, const quatd& r) {
+    for (std::size_t f = 0; f < c.frames(); ++f) c.set_rotation(f, j, c.rotation(f, j) * r);
+    return c;
+}
+
+// c turned by the heading r and moved by shift (root only): the same motion elsewhere.
+clipd moved(clipd c, const quatd& r, const vec3& shift) {
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        c.set_rotation(f, 0, r * c.rotation(f, 0));
+        c.set_root_position(f, r * c.root_position(f) + shift);
+    }
+    return c;
+}
+
+// c with another skeleton of the same size (rotations and root translations copied).
+clipd on_skeleton(const clipd& c, const anima::skeleton<double>& sk) {
+    clipd out(sk, c.frames(), c.frame_time());
+    for (std::size_t f = 0; f < c.frames(); ++f)
+        for (std::size_t j = 0; j < std::min(c.joints(), sk.size()); ++j) {
+            out.set_rotation(f, j, c.rotation(f, j));
+            if (sk.translation_slot(j) >= 0 && c.skeleton().translation_slot(j) >= 0)
+                out.set_translation(f, j, c.translation(f, j));
+        }
+    return out;
+}
+
+// Largest rotation of joint j between consecutive frames f, f+1 for f in [first, last).
+double largest_step(const clipd& c, std::size_t first, std::size_t last, std::size_t j) {
+    double m = 0;
+    for (std::size_t f = first; f < last; ++f) m = std::max(m, anima::angle_between(c.rotation(f, j), c.rotation(f + 1, j)));
+    return m;
+}
+double largest_root_step(const clipd& c, std::size_t first, std::size_t last) {
+    double m = 0;
+    for (std::size_t f = first; f < last; ++f) m = std::max(m, (c.root_position(f + 1) - c.root_position(f)).norm());
+    return m;
+}
+
+// Mean angular speed of joint j over the one-frame steps in [first, last).
+double mean_speed(const clipd& c, std::size_t first, std::size_t last, std::size_t j) {
+    double s = 0;
+    for (std::size_t f = first; f < last; ++f) s += anima::angle_between(c.rotation(f, j), c.rotation(f + 1, j));
+    return s / c.frame_time() / static_cast<double>(last - first);
+}
+
+// Root velocity and acceleration at `frame`: least-squares quadratic through
+// the `count` frames ending there, by the normal equations.
+anima::point_motion<double> quadratic_fit(const clipd& c, std::size_t frame, std::size_t count) {
+    Eigen::Matrix3d n = Eigen::Matrix3d::Zero(), rhs = Eigen::Matrix3d::Zero();
+    for (std::size_t i = 0; i < count; ++i) {
+        const double s = -static_cast<double>(i) * c.frame_time();
+        const vec3 phi(1, s, s * s);
+        n += phi * phi.transpose();
+        rhs += phi * c.root_position(frame - i).transpose();
+    }
+    const Eigen::Matrix3d coef = n.ldlt().solve(rhs);
+    return {coef.row(1).transpose(), 2 * coef.row(2).transpose()};
+}
+
+// Eq 12 (or Eq 13 with flight_acc) from A's trigger, vertically corrected
+// linearly in t so that it ends at B's start height.
+struct root_path {
+    vec3 p0, v, acc;
+    double total = 0, correction = 0;
+    vec3 at(double t) const { return p0 + t * v + 0.5 * t * t * acc + (t / total) * correction * up; }
+};
+root_path expected_path(const clipd& a, std::size_t trigger, const clipd& b, std::size_t b_start, double total,
+                        std::optional<vec3> flight_acc = std::nullopt) {
+    const auto fit = quadratic_fit(a, trigger, static_cast<std::size_t>(std::lround(0.25 / a.frame_time())) + 1);
+    root_path p{a.root_position(trigger), fit.velocity, flight_acc ? *flight_acc : fit.acceleration, total, 0};
+    p.correction = b.root_position(b_start).dot(up) - p.at(total).dot(up);
+    return p;
+}
+
+template <class F>
+std::string thrown_message(F&& f) {
+    try {
+        f();
+    } catch (const anima::invalid_argument& e) {
+        return e.what();
+    }
+    return "(nothing thrown)";
+}
+
+bool is_key(joint_role r) { return r == joint_role::root || r == joint_role::leg || r == joint_role::foot; }
+
+// Every in-between rotation is the documented blend of A's trigger rotation
+// and placed B's first: fingers lerp with the linear parameter, the others by
+// their method with the transition's parameter; squad's control points come
+// from A's frame before the trigger and placed B's second frame.
+double worst_blend_error(const clipd& a, std::size_t trigger, const anima::transition<double>& t,
+                         const std::vector<joint_role>& roles) {
+    const clipd& pb = t.placed_b;
+    double worst = 0;
+    for (std::size_t j = 0; j < a.joints(); ++j) {
+        const quatd q1 = a.rotation(trigger, j), q2 = anima::align_hemisphere(pb.rotation(0, j), q1);
+        const quatd s1 = anima::squad_control_point(a.rotation(trigger - 1, j), q1, pb.rotation(0, j));
+        const quatd s2 = anima::squad_control_point(q1, pb.rotation(0, j), pb.rotation(1, j));
+        for (std::size_t k = 1; k <= t.frames.frames(); ++k) {
+            const double tk = a.frame_time() * static_cast<double>(k);
+            const double h = anima::interpolation_parameter(tk, t.duration, t.parameter);
+            const double h_linear = anima::interpolation_parameter(tk, t.duration, anima::easing::linear);
+            quatd expected;
+            switch (t.methods[j]) {
+                case interpolation::lerp: expected = anima::nlerp(q1, q2, roles[j] == joint_role::finger ? h_linear : h); break;
+                case interpolation::squad: expected = anima::squad(q1, q2, s1, s2, h); break;
+                default: expected = anima::slerp(q1, q2, h); break;
+            }
+            worst = std::max(worst, anima::angle_between(t.frames.rotation(k - 1, j), expected));
+        }
+    }
+    return worst;
+}
+
+}  // namespace
+
+TEST_CASE("joint_roles on the Daz and CMU-31 layouts") {
+    const auto& daz = run<double>();
+    const auto roles = anima::joint_roles(daz.skeleton());
+    REQUIRE(roles.size() == daz.joints());
+    const auto role = [&](const char* n) { return roles[index(daz, n)]; };
+    CHECK(role("hip") == joint_role::root);
+    for (const char* n : {"rButtock", "rThigh", "rShin", "lButtock", "lThigh", "lShin"}) CHECK_MESSAGE(role(n) == joint_role::leg, n);
+    for (const char* n : {"rFoot", "lFoot"}) CHECK_MESSAGE(role(n) == joint_role::foot, n);
+    for (const char* n : {"rIndex1", "rThumb2", "rMid1", "rRing2", "lPinky1", "lIndex2"}) CHECK_MESSAGE(role(n) == joint_role::finger, n);
+    for (const char* n : {"abdomen", "chest", "neck", "head", "leftEye", "rCollar", "rShldr", "lForeArm", "rHand"})
+        CHECK_MESSAGE(role(n) == joint_role::other, n);
+    CHECK(std::count(roles.begin(), roles.end(), joint_role::finger) == 20);
+    CHECK(std::count(roles.begin(), roles.end(), joint_role::leg) == 6);
+    CHECK(std::count(roles.begin(), roles.end(), joint_role::foot) == 2);
+
+    const auto& cmu = walk31();
+    const auto r31 = anima::joint_roles(cmu.skeleton());
+    const auto role31 = [&](const char* n) { return r31[index(cmu, n)]; };
+    CHECK(role31("Hips") == joint_role::root);
+    for (const char* n : {"LeftUpLeg", "LeftLeg", "RightUpLeg", "RightLeg", "LHipJoint"}) CHECK_MESSAGE(role31(n) == joint_role::leg, n);
+    for (const char* n : {"LeftFoot", "LeftToeBase", "RightFoot", "RightToeBase"}) CHECK_MESSAGE(role31(n) == joint_role::foot, n);
+    for (const char* n : {"LThumb", "RThumb", "LeftHandIndex1", "RightFingerBase"}) CHECK_MESSAGE(role31(n) == joint_role::finger, n);
+    for (const char* n : {"LowerBack", "Spine1", "Neck1", "Head", "LeftArm", "RightHand"}) CHECK_MESSAGE(role31(n) == joint_role::other, n);
+
+    // Case-insensitive; every root of a forest is a root whatever its name.
+    anima::skeleton<double> sk;
+    sk.add_joint("LEFTFOOT", -1, vec3::Zero());
+    sk.add_joint("Left_ANKLE", 0, vec3::UnitY());
+    sk.add_joint("KneeCap", 1, vec3::UnitY());
+    sk.add_joint("pinkyTip", 2, vec3::UnitY());
+    sk.add_joint("FootProp", -1, vec3::UnitX());
+    const auto r = anima::joint_roles(sk);
+    CHECK(r == std::vector<joint_role>{joint_role::root, joint_role::foot, joint_role::leg, joint_role::finger, joint_role::root});
+}
+
+TEST_CASE("classify_motion: the real run, a held frame, a synthetic hop") {
+    const auto& r = run<double>();
+    const auto roles = anima::joint_roles(r.skeleton());
+    const auto c = anima::classify_motion(r, roles);
+    CHECK(c.type == motion_class::plane_motion);
+    CHECK(c.up == anima::signed_axis{anima::axis::y, 1});
+    CHECK(c.metres_per_unit == 0.01);
+    CHECK(c.foot_range > 3.0);  // metres: the run covers about 4 m
+    CHECK(anima::classify_motion(walk31(), anima::joint_roles(walk31().skeleton())).type == motion_class::plane_motion);
+
+    const auto still = anima::classify_motion(held(r, 30, 100), roles);
+    CHECK(still.type == motion_class::on_the_spot);
+    CHECK(still.longest_airborne == 0);
+    CHECK(still.foot_range < 1e-12);
+    CHECK(still.hip_rise == 0);
+
+    // 0.5 s standing, a 0.6 s parabolic hop of the whole figure, 0.5 s standing.
+    const auto hop = [&](double rise_m) {
+        clipd h = held(r, 10, 192);
+        for (std::size_t f = 60; f < 132; ++f) {
+            const double u = static_cast<double>(f - 60) / 72;
+            h.set_root_position(f, h.root_position(f) + 4 * rise_m * 100 * u * (1 - u) * up);
+        }
+        return h;
+    };
+    const clipd high = hop(0.5), low = hop(0.05);
+    const auto ch = anima::classify_motion(high, roles);
+    CHECK(ch.type == motion_class::space_flight);
+    CHECK(ch.hip_rise == doctest::Approx(0.5).epsilon(1e-9));
+    // The feet move faster than contact_speed except near the apex.
+    CHECK(ch.longest_airborne >= 0.15);
+    CHECK(ch.longest_airborne < 0.6);
+    const auto cl = anima::classify_motion(low, roles);
+    CHECK(cl.type == motion_class::on_the_spot);
+    CHECK(cl.longest_airborne == 0);  // 0.33 m/s at take-off: the feet never lose contact
+
+    anima::classify_params p;
+    p.flight_hip_rise = 0.6;  // above the rise
+    CHECK(anima::classify_motion(high, roles, p).type == motion_class::on_the_spot);
+    p.flight_hip_rise = 0.15;
+    p.flight_min_time = ch.longest_airborne + 0.01;
+    CHECK(anima::classify_motion(high, roles, p).type == motion_class::on_the_spot);
+    p.flight_min_time = 0.15;
+    p.contact_speed = 5;  // nothing is that fast: always in contact
+    CHECK(anima::classify_motion(high, roles, p).type == motion_class::on_the_spot);
+    anima::classify_params q;
+    q.flight_hip_rise = 0.05;  // the run's flight phases rise about 7 cm
+    CHECK(anima::classify_motion(r, roles, q).type == motion_class::space_flight);
+    q.on_spot_distance = 10;  // metres: not enough to call the run plane motion either way
+    q.flight_hip_rise = 1;
+    CHECK(anima::classify_motion(r, roles, q).type == motion_class::on_the_spot);
+
+    // The same hop on a figure whose up axis is -Y: the class must not change.
+    const clipd flipped = anima::rotate_clip(high, about(180, vec3::UnitZ()));
+    const auto cf = anima::classify_motion(flipped, roles);
+    CHECK(cf.up == anima::signed_axis{anima::axis::y, -1});
+    CHECK(cf.hip_rise == doctest::Approx(0.5).epsilon(1e-9));
+    CHECK(cf.type == motion_class::space_flight);
+
+    for (auto bad : {&anima::classify_params::on_spot_distance, &anima::classify_params::contact_speed}) {
+        anima::classify_params b;
+        b.*bad = 0;
+        CHECK_THROWS_AS(anima::classify_motion(r, roles, b), anima::invalid_argument);
+    }
+    anima::classify_params b;
+    b.flight_min_time = -1;
+    CHECK_THROWS_AS(anima::classify_motion(r, roles, b), anima::invalid_argument);
+    b = {};
+    b.flight_hip_rise = std::numeric_limits<double>::quiet_NaN();
+    CHECK_THROWS_AS(anima::classify_motion(r, roles, b), anima::invalid_argument);
+    b = {};
+    b.metres_per_unit = 0.0;
+    CHECK_THROWS_AS(anima::classify_motion(r, roles, b), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::classify_motion(r, std::vector<joint_role>(3, joint_role::foot)), anima::invalid_argument);
+}
+
+TEST_CASE("interpolation_parameter: Eq 10 and Eq 11") {
+    using anima::easing;
+    const double T = 0.8;
+    const auto h = [&](double t, easing e) { return anima::interpolation_parameter(t, T, e); };
+    for (int i = 0; i <= 16; ++i) CHECK(h(T * i / 16, easing::linear) == doctest::Approx(i / 16.0).epsilon(1e-15));
+    CHECK(h(0, easing::ease_in_out) == 0);
+    CHECK(h(T, easing::ease_in_out) == 1);
+    CHECK(h(T / 2, easing::ease_in_out) == doctest::Approx(0.5).epsilon(1e-15));
+    CHECK(h(T / 4, easing::ease_in_out) == doctest::Approx(0.125).epsilon(1e-15));  // 2 (1/4)^2
+    CHECK(h(3 * T / 4, easing::ease_in_out) == doctest::Approx(0.875).epsilon(1e-15));
+    const double e = 1e-7;
+    // Continuous at T/2 with the same slope 2/T on both sides; flat at both ends.
+    CHECK(std::abs(h(T / 2 - e, easing::ease_in_out) - 0.5) < 3 * e / T);
+    CHECK(std::abs(h(T / 2 + e, easing::ease_in_out) - 0.5) < 3 * e / T);
+    CHECK((h(T / 2, easing::ease_in_out) - h(T / 2 - e, easing::ease_in_out)) / e == doctest::Approx(2 / T).epsilon(1e-6));
+    CHECK((h(T / 2 + e, easing::ease_in_out) - h(T / 2, easing::ease_in_out)) / e == doctest::Approx(2 / T).epsilon(1e-6));
+    CHECK(h(e, easing::ease_in_out) / e < 1e-5);
+    CHECK((1 - h(T - e, easing::ease_in_out)) / e < 1e-5);
+    double previous = -1;
+    bool increasing = true, symmetric = true;
+    for (int i = 0; i <= 1000; ++i) {
+        const double t = T * i / 1000, v = h(t, easing::ease_in_out);
+        increasing = increasing && v > previous;
+        symmetric = symmetric && std::abs(v + h(T - t, easing::ease_in_out) - 1) < 1e-14;
+        previous = v;
+    }
+    CHECK(increasing);
+    CHECK(symmetric);
+    for (easing k : {easing::linear, easing::ease_in_out}) {
+        CHECK(h(-0.3, k) == 0);
+        CHECK(h(T + 0.3, k) == 1);
+        CHECK(anima::interpolation_parameter(0.1, 0.0, k) == 1);
+        CHECK(anima::interpolation_parameter(0.25f, 1.0f, k) == doctest::Approx(k == easing::linear ? 0.25 : 0.125));
+    }
+}
+
+TEST_CASE("identical poses: T is the minimum and the in-betweens hold the pose") {
+    const auto& a = run<double>();
+    const std::size_t trigger = 60;
+    const double dt = a.frame_time();
+    for (double min_duration : {0.1, 0.05, 0.003}) {
+        CAPTURE(min_duration);
+        anima::transition_params p;
+        p.timing.min_duration = min_duration;
+        const auto t = anima::make_transition(a, trigger, a, trigger, p);
+        CHECK(t.timing.duration == min_duration);
+        CHECK(t.timing.unclamped < 1e-12);
+        const auto steps = std::max<long>(1, std::lround(min_duration / dt));
+        CHECK(t.duration == doctest::Approx(dt * static_cast<double>(steps)).epsilon(1e-14));
+        REQUIRE(t.frames.frames() == static_cast<std::size_t>(steps - 1));
+        CHECK(t.frames.frame_time() == dt);
+        CHECK(t.parameter == anima::easing::ease_in_out);  // plane motion to plane motion
+        double worst = 0;
+        for (std::size_t k = 0; k < t.frames.frames(); ++k)
+            for (std::size_t j = 0; j < a.joints(); ++j)
+                worst = std::max(worst, anima::angle_between(t.frames.rotation(k, j), a.rotation(trigger, j)));
+        CHECK(worst < 1e-9);
+        // The root follows Eq 12 from A's quadratic fit, corrected to end at the trigger height.
+        const auto path = expected_path(a, trigger, a, trigger, t.duration);
+        CHECK((t.root_at_trigger.velocity - path.v).norm() < 1e-6 * path.v.norm());
+        CHECK((t.root_at_trigger.acceleration - path.acc).norm() < 1e-6 * path.acc.norm());
+        double root_error = 0;
+        for (std::size_t k = 1; k <= t.frames.frames(); ++k)
+            root_error = std::max(root_error, (t.frames.root_position(k - 1) - path.at(dt * static_cast<double>(k))).norm());
+        CHECK(root_error < 1e-6);
+        CHECK((t.placed_b.root_position(0) - path.at(t.duration)).norm() < 1e-6);
+        const auto joined = anima::join(a, trigger, t);
+        CHECK(joined.end_frame - joined.start_frame == static_cast<std::size_t>(steps));
+        CHECK(joined.motion.frames() == trigger + 1 + t.frames.frames() + (a.frames() - trigger));
+    }
+
+    // A root moving exactly on a horizontal parabola is continued exactly.
+    clipd glide = held(a, 30, 80);
+    const vec3 start = glide.root_position(0), v(150, 0, -40), acc(-60, 0, 90);
+    const auto on_path = [&](double t) { return vec3(start + t * v + 0.5 * t * t * acc); };
+    for (std::size_t f = 0; f < glide.frames(); ++f) glide.set_root_position(f, on_path(dt * static_cast<double>(f)));
+    const auto t = anima::make_transition(glide, 40, glide, 40);
+    CHECK((t.root_at_trigger.velocity - (v + 40 * dt * acc)).norm() < 1e-7);
+    CHECK((t.root_at_trigger.acceleration - acc).norm() < 1e-6);
+    double root_error = 0;
+    for (std::size_t k = 1; k <= t.frames.frames(); ++k)
+        root_error = std::max(root_error, (t.frames.root_position(k - 1) - on_path(dt * static_cast<double>(40 + k))).norm());
+    CHECK(root_error < 1e-8);
+    CHECK((t.placed_b.root_position(0) - on_path(dt * 40 + t.duration)).norm() < 1e-8);
+}
+
+TEST_CASE("variable timing: a larger pose difference takes longer at the same speeds") {
+    const auto& a = run<double>();
+    const std::size_t trigger = 60, shin = index(a, "rShin"), arm = index(a, "rForeArm");
+    const auto roles = anima::joint_roles(a.skeleton());
+    anima::transition_params p;
+    p.timing.min_duration = 0;
+    const auto window = static_cast<std::size_t>(std::lround(p.timing.speed_window / a.frame_time()));
+    const double speed_a = mean_speed(a, trigger - window, trigger, shin);
+    const double speed_b = mean_speed(a, trigger, trigger + window, shin);  // B is A, post-rotated
+    std::vector<double> durations;
+    for (double degrees : {20.0, 60.0}) {
+        CAPTURE(degrees);
+        const clipd b = post_rotated(a, shin, about(degrees, vec3(1, 0.2, 0)));
+        const auto t = anima::make_transition(a, trigger, b, trigger, p);
+        REQUIRE(t.timing.joints.size() == a.joints());
+        for (std::size_t j = 0; j < a.joints(); ++j) {
+            CHECK(t.timing.joints[j].joint == j);
+            CHECK(t.timing.joints[j].role == roles[j]);
+            CHECK(t.timing.joints[j].key == is_key(roles[j]));
+        }
+        const auto& jt = t.timing.joints[shin];
+        CHECK(jt.angle == doctest::Approx(degrees * pi / 180).epsilon(1e-9));
+        CHECK(jt.speed_a == doctest::Approx(speed_a).epsilon(1e-9));
+        CHECK(jt.speed_b == doctest::Approx(speed_b).epsilon(1e-9));
+        CHECK(jt.time == doctest::Approx(jt.angle / std::max(0.5 * (speed_a + speed_b), 0.5)).epsilon(1e-12));
+        CHECK(t.timing.limiting_joint == shin);
+        CHECK(t.timing.unclamped == jt.time);
+        CHECK(t.timing.duration == jt.time);
+        durations.push_back(t.timing.duration);
+
+        // A non-key joint turning further is timed and reported but does not set T.
+        const clipd b2 = post_rotated(b, arm, about(150, vec3(0, 1, 1)));
+        const auto t2 = anima::make_transition(a, trigger, b2, trigger, p);
+        CHECK(t2.timing.joints[arm].angle == doctest::Approx(150 * pi / 180).epsilon(1e-9));
+        CHECK(t2.timing.joints[arm].time > t2.timing.duration);
+        CHECK(t2.timing.limiting_joint == shin);
+        CHECK(t2.timing.duration == t.timing.duration);
+    }
+    CHECK(durations[1] > durations[0]);
+    CHECK(durations[1] == doctest::Approx(3 * durations[0]).epsilon(1e-9));  // same speeds: T proportional to the angle
+}
+
+TEST_CASE("variable timing: clamping and the floors on frozen clips") {
+    const auto& r = run<double>();
+    const clipd a = held(r, 20, 40);
+    clipd b = held(r, 60, 40);
+    for (std::size_t f = 0; f < b.frames(); ++f) {  // same root: the legs alone differ
+        b.set_rotation(f, 0, a.rotation(0, 0));
+        b.set_root_position(f, a.root_position(0));
+    }
+    const auto roles = anima::joint_roles(r.skeleton());
+    double largest = 0;
+    std::size_t widest = 0;
+    for (std::size_t j = 0; j < a.joints(); ++j) {
+        const double d = 2 * std::acos(std::min(1.0, std::abs(a.rotation(0, j).coeffs().dot(b.rotation(0, j).coeffs()))));
+        if (is_key(roles[j]) && d > largest) {
+            largest = d;
+            widest = j;
+        }
+    }
+    REQUIRE(largest > 0.7);
+    anima::transition_params p;
+    p.timing.max_duration = 10;
+    auto t = anima::make_transition(a, 10, b, 10, p);
+    CHECK(t.class_a.type == motion_class::on_the_spot);
+    CHECK(t.parameter == anima::easing::linear);  // spot to spot
+    CHECK(t.timing.joints[widest].speed_a == 0);
+    CHECK(t.timing.limiting_joint == widest);
+    CHECK(t.timing.duration == doctest::Approx(largest / p.timing.min_speed).epsilon(1e-7));
+    CHECK(worst_blend_error(a, 10, t, roles) < 1e-9);
+    p.timing.min_speed = 4;
+    CHECK(anima::make_transition(a, 10, b, 10, p).timing.duration == doctest::Approx(largest / 4).epsilon(1e-7));
+    p.timing.min_speed = 0.5;
+    p.timing.model = anima::timing_model::constant_acceleration;
+    t = anima::make_transition(a, 10, b, 10, p);
+    CHECK(t.timing.duration == doctest::Approx(std::sqrt(2 * largest / p.timing.min_acceleration)).epsilon(1e-7));
+    p.timing.min_acceleration = 8;
+    t = anima::make_transition(a, 10, b, 10, p);
+    CHECK(t.timing.duration == doctest::Approx(std::sqrt(2 * largest / 8)).epsilon(1e-7));
+    CHECK(t.timing.limiting_joint == widest);
+
+    // The default range [0.1, 1.2] s clamps the 1.4+ s the frozen legs ask for.
+    t = anima::make_transition(a, 10, b, 10);
+    CHECK(t.timing.unclamped == doctest::Approx(largest / 0.5).epsilon(1e-7));
+    CHECK(t.timing.duration == 1.2);
+    CHECK(t.duration == doctest::Approx(a.frame_time() * 144).epsilon(1e-12));
+    CHECK(t.frames.frames() == 143);
+    CHECK(std::isfinite(t.timing.duration));
+    // A huge difference on moving clips clamps too.
+    const std::size_t shin = index(r, "lShin");
+    t = anima::make_transition(r, 60, post_rotated(r, shin, about(175, vec3::UnitX())), 60);
+    CHECK(t.timing.unclamped > 0.2);
+    anima::transition_params tight;
+    tight.timing.max_duration = 0.2;
+    t = anima::make_transition(r, 60, post_rotated(r, shin, about(175, vec3::UnitX())), 60, tight);
+    CHECK(t.timing.duration == 0.2);
+    CHECK(t.timing.limiting_joint == shin);
+}
+
+TEST_CASE("in-between quaternions stay unit in double and float") {
+    const auto check = [](const auto& a, double tolerance) {
+        double worst = 0;
+        bool finite = true;
+        for (auto [trigger, b_start] : {std::pair<std::size_t, std::size_t>{60, 20}, {80, 90}, {40, 120}}) {
+            const auto t = anima::make_transition(a, trigger, a, b_start);
+            const auto joined = anima::join(a, trigger, t);
+            for (const auto* c : {&t.frames, &joined.motion})
+                for (const auto& q : c->rotations()) {
+                    worst = std::max(worst, static_cast<double>(std::abs(q.norm() - 1)));
+                    finite = finite && q.coeffs().allFinite();
+                }
+        }
+        CHECK(finite);
+        CHECK(worst < tolerance);
+    };
+    check(run<double>(), 1e-12);
+    check(run<float>(), 1e-5);
+    const auto td = anima::make_transition(run<double>(), 60, run<double>(), 20);
+    const auto tf = anima::make_transition(run<float>(), 60, run<float>(), 20);
+    CHECK(static_cast<double>(tf.timing.duration) == doctest::Approx(td.timing.duration).epsilon(1e-4));
+    CHECK(tf.timing.limiting_joint == td.timing.limiting_joint);
+}
+
+TEST_CASE("per-joint methods: fingers lerp, large turns squad, the rest slerp; overrides") {
+    const auto& a = run<double>();
+    const std::size_t trigger = 60, b_start = 20, finger = index(a, "rIndex1"), thigh = index(a, "rThigh");
+    const clipd b = post_rotated(a, finger, about(40, vec3(0, 0, 1)));
+    const auto roles = anima::joint_roles(a.skeleton());
+    const auto t = anima::make_transition(a, trigger, b, b_start);
+    std::size_t squads = 0, slerps = 0;
+    for (std::size_t j = 0; j < a.joints(); ++j) {
+        const interpolation expected = roles[j] == joint_role::finger ? interpolation::lerp
+                                       : t.timing.joints[j].angle >= pi / 6 ? interpolation::squad
+                                                                            : interpolation::slerp;
+        CHECK_MESSAGE(t.methods[j] == expected, a.skeleton()[j].name);
+        squads += t.methods[j] == interpolation::squad;
+        slerps += t.methods[j] == interpolation::slerp;
+    }
+    CHECK(t.timing.joints[finger].angle > pi / 6);  // a finger lerps however far it turns
+    CHECK(squads > 0);
+    CHECK(slerps > 0);
+    CHECK(t.parameter == anima::easing::ease_in_out);
+    CHECK(worst_blend_error(a, trigger, t, roles) < 1e-9);
+    // The finger moves at constant speed (linear parameter), the others ease in.
+    const std::size_t quarter = (t.frames.frames() + 1) / 4;
+    const double fraction = anima::angle_between(t.frames.rotation(quarter - 1, finger), a.rotation(trigger, finger)) /
+                            t.timing.joints[finger].angle;
+    CHECK(fraction == doctest::Approx(static_cast<double>(quarter) * a.frame_time() / t.duration).epsilon(0.05));
+
+    anima::transition_params p;
+    p.methods.assign(a.joints(), interpolation::slerp);
+    auto t2 = anima::make_transition(a, trigger, b, b_start, p);
+    CHECK(std::all_of(t2.methods.begin(), t2.methods.end(), [](interpolation m) { return m == interpolation::slerp; }));
+    CHECK(worst_blend_error(a, trigger, t2, roles) < 1e-9);
+    p.methods.assign(a.joints(), interpolation::automatic);
+    p.methods[thigh] = interpolation::lerp;
+    t2 = anima::make_transition(a, trigger, b, b_start, p);
+    for (std::size_t j = 0; j < a.joints(); ++j)
+        CHECK(t2.methods[j] == (j == thigh ? interpolation::lerp : t.methods[j]));
+    CHECK(worst_blend_error(a, trigger, t2, roles) < 1e-9);  // the thigh lerps with the eased parameter
+    p.methods.clear();
+    p.large_angle = 4;
+    t2 = anima::make_transition(a, trigger, b, b_start, p);
+    CHECK(std::count(t2.methods.begin(), t2.methods.end(), interpolation::squad) == 0);
+    p.large_angle = pi / 6;
+    p.parameter = anima::easing::linear;
+    t2 = anima::make_transition(a, trigger, b, b_start, p);
+    CHECK(t2.parameter == anima::easing::linear);
+    CHECK(worst_blend_error(a, trigger, t2, roles) < 1e-9);
+
+    // Roles override: the (unmoving) finger made a leg is key, and its 40
+    // degrees at the floor speed need longer than the legs.
+    p = {};
+    p.roles = roles;
+    p.roles[finger] = joint_role::leg;
+    t2 = anima::make_transition(a, trigger, b, b_start, p);
+    CHECK(t2.timing.joints[finger].key);
+    CHECK(t2.methods[finger] == interpolation::squad);
+    CHECK(t2.timing.limiting_joint == finger);
+    CHECK(t2.timing.duration > t.timing.duration);
+    p.roles.assign(a.joints(), joint_role::other);  // nothing is key: the minimum
+    CHECK(anima::make_transition(a, trigger, b, b_start, p).timing.duration == 0.1);
+}
+
+TEST_CASE("the joined clip is continuous at both ends on real pairs") {
+    const auto check = [](const clipd& a, std::size_t trigger, const clipd& b, std::size_t b_start) {
+        const auto t = anima::make_transition(a, trigger, b, b_start);
+        INFO("T = " << t.duration << " s (unclamped " << t.timing.unclamped << ", limited by "
+                    << a.skeleton()[t.timing.limiting_joint].name << "), flight " << t.flight);
+        const auto joined = anima::join(a, trigger, t);
+        const clipd& m = joined.motion;
+        REQUIRE(joined.start_frame == trigger);
+        REQUIRE(joined.end_frame == trigger + t.frames.frames() + 1);
+        const std::size_t k = 4;
+        double excess = 0;
+        std::string where;
+        for (std::size_t j = 0; j < a.joints(); ++j) {
+            const double own = std::max(largest_step(a, trigger - k, trigger, j), largest_step(b, b_start, b_start + k, j));
+            for (std::size_t f : {joined.start_frame, joined.end_frame - 1}) {
+                const double e = anima::angle_between(m.rotation(f, j), m.rotation(f + 1, j)) - own;
+                if (e > excess) {
+                    excess = e;
+                    where = a.skeleton()[j].name + " at frame " + std::to_string(f);
+                }
+            }
+        }
+        CHECK_MESSAGE(excess < 1e-6, where);
+        // T is set by a key joint, the slowest of them.
+        const auto& timing = t.timing;
+        CHECK(timing.joints[timing.limiting_joint].key);
+        CHECK(timing.joints[timing.limiting_joint].time == timing.unclamped);
+        CHECK(std::none_of(timing.joints.begin(), timing.joints.end(),
+                           [&](const auto& jt) { return jt.key && jt.time > timing.unclamped; }));
+        // Root: Eq 12 extrapolates the trigger's acceleration over T and the
+        // height correction adds a constant vertical speed, so the root may
+        // step faster than either clip by dt (T |a| + |correction| / T); a
+        // misplaced B or a path not starting at A's root steps much further.
+        const double own = std::max(largest_root_step(a, trigger - k, trigger), largest_root_step(b, b_start, b_start + k));
+        const auto path = expected_path(a, trigger, b, b_start, t.duration,
+                                        t.flight ? std::optional<vec3>(-9.81 / t.class_a.metres_per_unit * up) : std::nullopt);
+        const double allowance = a.frame_time() * (t.duration * path.acc.norm() + std::abs(path.correction) / t.duration);
+        CHECK((m.root_position(joined.start_frame + 1) - m.root_position(joined.start_frame)).norm() <= own + allowance);
+        CHECK((m.root_position(joined.end_frame) - m.root_position(joined.end_frame - 1)).norm() <= own + allowance);
+        CHECK((m.root_position(joined.end_frame) - path.at(t.duration)).norm() < 1e-6);
+    };
+    const auto& r = run<double>();
+    check(r, 60, r, 20);
+    check(r, 80, r, 90);
+    check(r, 40, r, 50);
+    const clipd* walk = shared_clip("walk_cmu_02_01.bvh");
+    const clipd* run2 = shared_clip("run_cmu_02_03.bvh");
+    const clipd* jump = shared_clip("jump_cmu_02_04.bvh");
+    const clipd* kick = shared_clip("martialarts_frontkick_cmu_135_04.bvh");
+    if (walk) check(r, 100, *walk, 100);
+    if (walk && run2) check(*walk, 200, *run2, 30);
+    if (jump) check(r, 100, *jump, 100);
+    if (walk && kick) check(*walk, 150, *kick, 300);
+}
+
+TEST_CASE("flight: the root follows a parabola with the given gravity") {
+    const auto& r = run<double>();
+    const double dt = r.frame_time();
+    const auto second_differences = [](const anima::joined_clip<double>& j, double& vertical, double& spread,
+                                       double& horizontal) {
+        std::vector<double> d;
+        horizontal = 0;
+        for (std::size_t f = j.start_frame + 1; f < j.end_frame; ++f) {
+            const vec3 dd = j.motion.root_position(f + 1) - 2 * j.motion.root_position(f) + j.motion.root_position(f - 1);
+            d.push_back(dd.dot(up));
+            horizontal = std::max(horizontal, (dd - dd.dot(up) * up).norm());
+        }
+        const auto [lo, hi] = std::minmax_element(d.begin(), d.end());
+        vertical = d.front();
+        spread = *hi - *lo;
+    };
+    anima::transition_params p;
+    p.classification.flight_hip_rise = 0.05;  // the run's 7 cm bounce counts as flight
+    for (double k_g : {0.5, 0.25, 1.0}) {
+        CAPTURE(k_g);
+        p.gravity_factor = k_g;
+        const auto t = anima::make_transition(r, 60, r, 20, p);
+        REQUIRE(t.flight);
+        CHECK(t.class_b.type == motion_class::space_flight);
+        const auto joined = anima::join(r, 60, t);
+        REQUIRE(joined.end_frame - joined.start_frame > 10);
+        double vertical = 0, spread = 0, horizontal = 0;
+        second_differences(joined, vertical, spread, horizontal);
+        const double expected = -2 * k_g * 9.81 / 0.01 * dt * dt;
+        CHECK(vertical == doctest::Approx(expected).epsilon(1e-9));
+        CHECK(spread < 1e-9 * std::abs(expected));
+        CHECK(horizontal < 1e-9);
+        CHECK(joined.motion.root_position(joined.end_frame).dot(up) == doctest::Approx(r.root_position(20).dot(up)).epsilon(1e-12));
+        const vec3 d = joined.motion.root_position(joined.end_frame) - r.root_position(60) - t.duration * t.root_at_trigger.velocity;
+        CHECK((d - d.dot(up) * up).norm() < 1e-9);  // horizontally p0 + T v: no horizontal acceleration
+    }
+    p.gravity = 0;
+    {
+        const auto joined = anima::transition_clips(r, 60, r, 20, p);
+        double vertical = 0, spread = 0, horizontal = 0;
+        second_differences(joined, vertical, spread, horizontal);
+        CHECK(std::abs(vertical) < 1e-9);
+        CHECK(spread < 1e-9);
+    }
+    if (const clipd* jump = shared_clip("jump_cmu_02_04.bvh")) {
+        const auto t = anima::make_transition(r, 100, *jump, 100);  // default thresholds
+        CHECK(t.class_a.type == motion_class::plane_motion);
+        CHECK(t.class_b.type == motion_class::space_flight);
+        CHECK(t.flight);
+        const auto joined = anima::join(r, 100, t);
+        double vertical = 0, spread = 0, horizontal = 0;
+        second_differences(joined, vertical, spread, horizontal);
+        CHECK(vertical == doctest::Approx(-9.81 / 0.01 * dt * dt).epsilon(1e-9));
+        CHECK(spread < 1e-9);
+        CHECK(horizontal < 1e-9);
+    }
+}
+
+TEST_CASE("squad passes through its keys") {
+    std::mt19937 rng(7);
+    std::normal_distribution<double> g;
+    const auto random_q = [&] { return quatd(g(rng), g(rng), g(rng), g(rng)).normalized(); };
+    for (int i = 0; i < 20; ++i) {
+        const quatd q1 = random_q(), q2 = random_q(), s1 = random_q(), s2 = random_q();
+        CHECK(anima::angle_between(anima::squad(q1, q2, s1, s2, 0.0), q1) < 1e-12);
+        CHECK(anima::angle_between(anima::squad(q1, q2, s1, s2, 1.0), q2) < 1e-12);
+    }
+    const auto& r = run<double>();
+    const std::size_t trigger = 60, b_start = 20;
+    const auto t0 = anima::make_transition(r, trigger, r, b_start);
+    const auto it = std::find(t0.methods.begin(), t0.methods.end(), interpolation::squad);
+    REQUIRE(it != t0.methods.end());
+    const auto j = static_cast<std::size_t>(it - t0.methods.begin());
+    std::vector<double> first_gap, last_gap;
+    for (double total : {0.25, 0.5, 1.0}) {
+        anima::transition_params p;
+        p.timing.min_duration = p.timing.max_duration = total;
+        const auto t = anima::make_transition(r, trigger, r, b_start, p);
+        REQUIRE(t.methods[j] == interpolation::squad);
+        first_gap.push_back(anima::angle_between(t.frames.rotation(0, j), r.rotation(trigger, j)));
+        last_gap.push_back(anima::angle_between(t.frames.rotation(t.frames.frames() - 1, j), t.placed_b.rotation(0, j)));
+    }
+    for (const auto* gap : {&first_gap, &last_gap}) {
+        CHECK((*gap)[0] < 0.02);
+        CHECK((*gap)[1] < (*gap)[0]);
+        CHECK((*gap)[2] < (*gap)[1]);
+        CHECK((*gap)[2] < (*gap)[0] / 8);  // the eased parameter is quadratic at the ends
+    }
+}
+
+TEST_CASE("B is placed heading-aligned where the root path ends") {
+    const auto& a = run<double>();
+    const std::size_t trigger = 60, b_start = 20;
+    const clipd b = moved(a, about(70, up), vec3(300, 4, -200));
+    const auto t = anima::make_transition(a, trigger, b, b_start);
+    const clipd& pb = t.placed_b;
+    REQUIRE(pb.frames() == b.frames() - b_start);
+    CHECK(angle_gap(heading(pb.rotation(0, 0)), heading(a.rotation(trigger, 0))) < 1e-9);
+    // The predicted end point, horizontally; B's own start height vertically.
+    const auto path = expected_path(a, trigger, b, b_start, t.duration);
+    const vec3 end = pb.root_position(0), predicted = path.p0 + t.duration * path.v + 0.5 * t.duration * t.duration * path.acc;
+    CHECK(std::abs(end.x() - predicted.x()) < 1e-6);
+    CHECK(std::abs(end.z() - predicted.z()) < 1e-6);
+    CHECK(end.y() == doctest::Approx(b.root_position(b_start).y()).epsilon(1e-12));
+    // The rest of B is B turned about the vertical: same shape, same turns, same pose.
+    double shape = 0, turns = 0, pose = 0;
+    for (std::size_t f = 0; f < pb.frames(); ++f) {
+        const vec3 dp = pb.root_position(f) - pb.root_position(0), db = b.root_position(b_start + f) - b.root_position(b_start);
+        shape = std::max({shape, std::abs(dp.norm() - db.norm()), std::abs(dp.y() - db.y())});
+        turns = std::max(turns, angle_gap(heading(pb.rotation(f, 0)) - heading(pb.rotation(0, 0)),
+                                          heading(b.rotation(b_start + f, 0)) - heading(b.rotation(b_start, 0))));
+        for (std::size_t j = 1; j < b.joints(); ++j)
+            pose = std::max(pose, anima::angle_between(pb.rotation(f, j), b.rotation(b_start + f, j)));
+    }
+    CHECK(shape < 1e-9);
+    CHECK(turns < 1e-9);
+    CHECK(pose < 1e-12);
+    // B's direction of travel turned with it: it now runs the way A ran.
+    const vec3 travel_a = a.root_position(trigger) - a.root_position(trigger - 30);
+    const vec3 travel_b = pb.root_position(30) - pb.root_position(0);
+    CHECK(angle_gap(std::atan2(travel_a.x(), travel_a.z()), std::atan2(travel_b.x(), travel_b.z())) < 0.15);
+    // The same transition from the unmoved B: placement removes B's own heading and place.
+    const auto t0 = anima::make_transition(a, trigger, a, b_start);
+    CHECK(t0.duration == t.duration);
+    double same = 0;
+    for (std::size_t f = 0; f < pb.frames(); ++f) {
+        same = std::max(same, (t0.placed_b.root_position(f) + 4 * up - pb.root_position(f)).norm());  // B is 4 higher
+        for (std::size_t j = 0; j < a.joints(); ++j)
+            same = std::max(same, anima::angle_between(t0.placed_b.rotation(f, j), pb.rotation(f, j)));
+    }
+    CHECK(same < 1e-9);
+}
+
+TEST_CASE("B at another frame rate is resampled to A's") {
+    const auto& a = run<double>();
+    const double dt = a.frame_time();
+    const clipd b60 = anima::resample(a, 1.0 / 60);
+    REQUIRE(b60.frames() == 69);
+    const auto t = anima::make_transition(a, 60, b60, 10);
+    CHECK(t.frames.frame_time() == dt);
+    CHECK(t.placed_b.frame_time() == dt);
+    const auto joined = anima::join(a, 60, t);
+    CHECK(joined.motion.frame_time() == dt);
+    CHECK(largest_step(joined.motion, 0, joined.motion.frames() - 1, 0) < 0.1);  // no jump anywhere
+    const auto cut = anima::direct_cut(a, 60, b60, 10);
+    CHECK(cut.motion.frame_time() == dt);
+
+    // B's frame 10 at 60 Hz is 1/6 s into B: the placed B must start there,
+    // i.e. at frame 20 of B at 120 Hz.
+    // (Mapping the frame by frame counts, 10 * 137 / 69 = 19, is one frame early.)
+    const clipd b120 = anima::resample(b60, dt);
+    const auto t120 = anima::make_transition(a, 60, b120, 20);
+    double start_gap = 0, cut_gap = 0;
+    for (std::size_t j = 1; j < a.joints(); ++j) {
+        start_gap = std::max(start_gap, anima::angle_between(t.placed_b.rotation(0, j), b60.rotation(10, j)));
+        cut_gap = std::max(cut_gap, anima::angle_between(cut.motion.rotation(61, j), b60.rotation(10, j)));
+    }
+    // (The file's frame time 0.00833333 is not exactly 1/120: 1e-5 rad of slack.)
+    CHECK(start_gap < 1e-5);
+    CHECK(cut_gap < 1e-5);
+    CHECK(t.placed_b.frames() == t120.placed_b.frames());
+    CHECK(t.duration == doctest::Approx(t120.duration));
+}
+
+TEST_CASE("errors: hierarchies, frames, sizes, parameters") {
+    const auto& r = run<double>();
+    const auto roles = anima::joint_roles(r.skeleton());
+    const std::string m = thrown_message([&] { anima::make_transition(r, 60, walk31(), 10); });
+    CHECK(m.find("'hip'") != std::string::npos);
+    CHECK(m.find("'Hips'") != std::string::npos);
+    CHECK_THROWS_AS(anima::make_transition(walk31(), 60, r, 10), anima::invalid_argument);
+
+    // One joint renamed deep in the tree; another skeleton one joint longer;
+    // different bone lengths are allowed.
+    anima::skeleton<double> renamed, longer, scaled;
+    for (std::size_t j = 0; j < r.joints(); ++j) {
+        const auto& jt = r.skeleton()[j];
+        renamed.add_joint(jt.name == "rThigh" ? "rUpperLeg" : jt.name, jt.parent, jt.offset, jt.channels);
+        longer.add_joint(jt.name, jt.parent, jt.offset, jt.channels);
+        scaled.add_joint(jt.name, jt.parent, 1.1 * jt.offset, jt.channels);
+    }
+    longer.add_joint("rToe", static_cast<int>(index(r, "rFoot")), vec3(0, 0, 10));
+    const std::string mr = thrown_message([&] { anima::make_transition(r, 60, on_skeleton(r, renamed), 10); });
+    CHECK(mr.find("'rThigh'") != std::string::npos);
+    CHECK(mr.find("'rUpperLeg'") != std::string::npos);
+    CHECK(mr.find(std::to_string(index(r, "rThigh"))) != std::string::npos);
+    const std::string ml = thrown_message([&] { anima::make_transition(r, 60, on_skeleton(r, longer), 10); });
+    CHECK(ml.find("rToe") != std::string::npos);
+    CHECK_NOTHROW(anima::make_transition(r, 60, on_skeleton(r, scaled), 10));
+    CHECK_THROWS_AS(anima::direct_cut(r, 60, walk31(), 10), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::crossfade(r, 60, on_skeleton(r, renamed), 10, 0.2), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::inertialize(r, 60, on_skeleton(r, longer), 10, 0.1), anima::invalid_argument);
+
+    CHECK_THROWS_AS(anima::make_transition(r, r.frames(), r, 10), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::make_transition(r, 60, r, r.frames()), anima::invalid_argument);
+    CHECK_NOTHROW(anima::make_transition(r, r.frames() - 1, r, r.frames() - 1));
+    CHECK_NOTHROW(anima::make_transition(r, 0, r, 0));
+    CHECK_THROWS_AS(anima::direct_cut(r, r.frames(), r, 10), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::crossfade(r, 60, r, r.frames(), 0.2), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::inertialize(r, 60, r, r.frames(), 0.1), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::crossfade(r, 60, r, 10, -0.1), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::inertialize(r, 60, r, 10, 0.0), anima::invalid_argument);
+    const auto t = anima::make_transition(r, 60, r, 20);
+    CHECK_THROWS_AS(anima::join(r, r.frames(), t), anima::invalid_argument);
+    const quatd none = quatd::Identity();
+    CHECK_THROWS_AS(anima::variable_timing(r, r.frames(), r, 0, roles, none), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::variable_timing(r, 0, r, 0, std::vector<joint_role>(2), none), anima::invalid_argument);
+
+    const auto throws = [&](anima::transition_params p) {
+        CHECK_THROWS_AS(anima::make_transition(r, 60, r, 20, p), anima::invalid_argument);
+    };
+    anima::transition_params p;
+    p.roles.assign(5, joint_role::leg);
+    throws(p);
+    p = {};
+    p.methods.assign(r.joints() + 1, interpolation::slerp);
+    throws(p);
+    p = {};
+    p.large_angle = -1;
+    throws(p);
+    p = {};
+    p.gravity = -9.81;
+    throws(p);
+    p = {};
+    p.gravity_factor = std::numeric_limits<double>::infinity();
+    throws(p);
+    p = {};
+    p.root_window = -0.1;
+    throws(p);
+    p = {};
+    p.timing.min_duration = -0.1;
+    throws(p);
+    p = {};
+    p.timing.max_duration = 0.05;  // below min_duration
+    throws(p);
+    p = {};
+    p.timing.min_speed = 0;
+    throws(p);
+    p = {};
+    p.timing.min_acceleration = -1;
+    throws(p);
+    p = {};
+    p.timing.speed_window = -1;
+    throws(p);
+    p = {};
+    p.classification.contact_speed = 0;
+    throws(p);
+
+    const auto joined = anima::join(r, 60, t);
+    const auto c = anima::classify_motion(r, roles);
+    CHECK_THROWS_AS(anima::measure_transition(joined, std::vector<joint_role>(3), c.up, 0.01), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::measure_transition(joined, roles, c.up, 0.0), anima::invalid_argument);
+    auto broken = joined;
+    broken.end_frame = joined.motion.frames();
+    CHECK_THROWS_AS(anima::measure_transition(broken, roles, c.up, 0.01), anima::invalid_argument);
+}
+
+TEST_CASE("baselines: direct cut, crossfade, inertialization") {
+    const auto& a = run<double>();
+    const clipd b = moved(a, about(-50, up), vec3(-100, 0, 250));
+    const std::size_t trigger = 60, b_start = 20;
+    const double dt = a.frame_time();
+
+    const auto cut = anima::direct_cut(a, trigger, b, b_start);
+    CHECK(cut.start_frame == trigger);
+    CHECK(cut.end_frame == trigger + 1);
+    REQUIRE(cut.motion.frames() == trigger + 1 + b.frames() - b_start);
+    double pose = 0, turn_drift = 0;
+    const quatd turn = cut.motion.rotation(trigger + 1, 0) * b.rotation(b_start, 0).conjugate();
+    for (std::size_t f = 0; f < b.frames() - b_start; ++f) {
+        for (std::size_t j = 1; j < a.joints(); ++j)
+            pose = std::max(pose, anima::angle_between(cut.motion.rotation(trigger + 1 + f, j), b.rotation(b_start + f, j)));
+        turn_drift = std::max(turn_drift, anima::angle_between(cut.motion.rotation(trigger + 1 + f, 0) * b.rotation(b_start + f, 0).conjugate(), turn));
+    }
+    CHECK(pose < 1e-12);
+    CHECK(turn_drift < 1e-9);
+    CHECK(std::hypot(turn.x(), turn.z()) < 1e-12);  // the root is only turned about the vertical
+    CHECK(angle_gap(heading(cut.motion.rotation(trigger + 1, 0)), heading(a.rotation(trigger, 0))) < 1e-9);
+    // One frame of A's root velocity on, at B's own height.
+    const vec3 next = 2 * a.root_position(trigger) - a.root_position(trigger - 1);
+    const vec3 placed = cut.motion.root_position(trigger + 1);
+    CHECK(std::hypot(placed.x() - next.x(), placed.z() - next.z()) < 1e-9);
+    CHECK(placed.y() == doctest::Approx(b.root_position(b_start).y()).epsilon(1e-12));
+
+    for (double d : {0.2, 0.1, 0.004}) {
+        CAPTURE(d);
+        const auto steps = static_cast<std::size_t>(std::max(1L, std::lround(d / dt)));
+        const auto fade = anima::crossfade(a, trigger, b, b_start, d);
+        CHECK(fade.start_frame == trigger);
+        CHECK(fade.end_frame - fade.start_frame == steps);
+        CHECK(fade.motion.frames() == cut.motion.frames());
+        for (std::size_t j = 0; j < a.joints(); ++j) {
+            // The first blended frame is A's next frame moved 1/steps of the way to B.
+            const double gap = anima::angle_between(a.rotation(trigger + 1, j), cut.motion.rotation(trigger + 1, j));
+            const double moved_by = anima::angle_between(fade.motion.rotation(trigger + 1, j), a.rotation(trigger + 1, j));
+            CHECK(std::abs(moved_by - gap / static_cast<double>(steps)) < 1e-9 * gap + 1e-12);
+            // From end_frame on it is the placed B.
+            CHECK(anima::angle_between(fade.motion.rotation(fade.end_frame, j), cut.motion.rotation(fade.end_frame, j)) < 1e-12);
+        }
+    }
+    // A B shorter than the fade: the fade stops where B does.
+    const auto short_fade = anima::crossfade(a, trigger, b, b.frames() - 6, 0.2);
+    CHECK(short_fade.motion.frames() == trigger + 1 + 6);
+    // end_frame must be a frame of the clip, so measure_transition accepts it.
+    CHECK(short_fade.end_frame < short_fade.motion.frames());
+
+    const double halflife = 0.05;
+    const auto inert = anima::inertialize(a, trigger, b, b_start, halflife);
+    CHECK(inert.start_frame == trigger);
+    REQUIRE(inert.motion.frames() == cut.motion.frames());
+    // The first frame after the switch continues A (extrapolated one frame).
+    double first = 0;
+    std::vector<vec3> x0(a.joints()), v0(a.joints());
+    for (std::size_t j = 0; j < a.joints(); ++j) {
+        const quatd qa = a.rotation(trigger, j), step = a.rotation(trigger - 1, j).conjugate() * qa;
+        first = std::max(first, anima::angle_between(inert.motion.rotation(trigger + 1, j), quatd(qa * step)));
+        x0[j] = anima::to_rotation_vector(quatd(qa * step * cut.motion.rotation(trigger + 1, j).conjugate()));
+        v0[j] = (anima::to_rotation_vector(quatd(qa * step * step * cut.motion.rotation(trigger + 2, j).conjugate())) - x0[j]) / dt;
+    }
+    CHECK(first < 1e-9);
+    CHECK((inert.motion.root_position(trigger + 1) - next).norm() < 1e-9);
+    // Then the offset to the placed B decays like the critically damped spring,
+    // and after ten half-lives it is gone.
+    double spring = 0, late = 0, at_end = 0, largest = 0;
+    for (const auto& x : x0) largest = std::max(largest, x.norm());
+    for (std::size_t f = 0; trigger + 1 + f < cut.motion.frames(); ++f) {
+        const double t = dt * static_cast<double>(f);
+        for (std::size_t j = 0; j < a.joints(); ++j) {
+            const quatd qi = inert.motion.rotation(trigger + 1 + f, j), qb = cut.motion.rotation(trigger + 1 + f, j);
+            const vec3 expected = anima::spring_decay(x0[j], v0[j], halflife, t);
+            spring = std::max(spring, (anima::to_rotation_vector(quatd(qi * qb.conjugate())) - expected).norm());
+            if (t >= 10 * halflife) late = std::max(late, anima::angle_between(qi, qb));
+            if (trigger + 1 + f == inert.end_frame) at_end = std::max(at_end, anima::angle_between(qi, qb));
+        }
+    }
+    CHECK(spring < 1e-9);
+    CHECK(late < 1e-3);
+    CHECK(inert.end_frame > inert.start_frame + 1);
+    CHECK(at_end <= 0.01 * largest + 1e-12);
+}
+
+TEST_CASE("spring_decay is the critically damped solution") {
+    const double x0 = 1.5, v0 = -4, halflife = 0.2, y = 2 * std::log(2.0) / halflife;
+    const auto x = [&](double t) { return anima::spring_decay(x0, v0, halflife, t); };
+    CHECK(x(0) == x0);
+    const double h = 1e-5;
+    CHECK((x(h) - x(-h)) / (2 * h) == doctest::Approx(v0).epsilon(1e-7));
+    double residual = 0;
+    for (double t = 0.01; t < 2; t += 0.037) {
+        const double d1 = (x(t + h) - x(t - h)) / (2 * h), d2 = (x(t + h) - 2 * x(t) + x(t - h)) / (h * h);
+        residual = std::max(residual, std::abs(d2 + 2 * y * d1 + y * y * x(t)));
+    }
+    CHECK(residual < 1e-3);  // against terms of size y^2 x0 ~ 70
+    CHECK(std::abs(x(10 * halflife)) < 1e-4);
+    CHECK(x(3) == doctest::Approx((x0 + (v0 + y * x0) * 3) * std::exp(-y * 3)).epsilon(1e-12));
+    const vec3 xv = anima::spring_decay(vec3(1, -2, 0.5), vec3(0, 3, -1), halflife, 0.3);
+    CHECK(xv.y() == doctest::Approx(anima::spring_decay(-2.0, 3.0, halflife, 0.3)).epsilon(1e-15));
+}
+
+TEST_CASE("measure_transition: the variable-timing transition is smoother than a direct cut") {
+    const auto measure = [](const clipd& a, std::size_t trigger, const clipd& b, std::size_t b_start) {
+        const auto roles = anima::joint_roles(a.skeleton());
+        const auto c = anima::classify_motion(a, roles);
+        const auto vt = anima::transition_clips(a, trigger, b, b_start);
+        const auto cut = anima::direct_cut(a, trigger, b, b_start);
+        const auto qv = anima::measure_transition(vt, roles, c.up, c.metres_per_unit);
+        const auto qc = anima::measure_transition(cut, roles, c.up, c.metres_per_unit);
+        INFO("peak angular acceleration (rad/s^2): variable timing " << qv.peak_angular_acceleration << ", direct cut "
+                                                                   << qc.peak_angular_acceleration);
+        CHECK(qv.length == doctest::Approx(static_cast<double>(vt.end_frame - vt.start_frame) * a.frame_time()));
+        CHECK(qc.length == doctest::Approx(a.frame_time()));
+        CHECK(qv.peak_angular_acceleration < qc.peak_angular_acceleration);
+        CHECK(qv.peak_angular_jerk < qc.peak_angular_jerk);
+        CHECK(qv.foot_slide >= 0);
+    };
+    measure(run<double>(), 60, run<double>(), 20);
+    if (const clipd* walk = shared_clip("walk_cmu_02_01.bvh")) measure(run<double>(), 100, *walk, 100);
+}
