@@ -1,0 +1,148 @@
+// anima convert IN.bvh OUT.bvh: reads, validates and writes a BVH file,
+// optionally with another rotation order, up axis or scale.
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <string>
+
+namespace anima_cli {
+namespace {
+
+struct convert_options {
+    std::string input, output;
+    std::string order, up, from_up, euler = "continuous";
+    double scale = 1;
+    int decimals = 6;
+    bool json = false;
+    // Set in register_convert; owned by the CLI::App.
+    CLI::Option *order_opt = nullptr, *up_opt = nullptr, *from_up_opt = nullptr, *scale_opt = nullptr,
+                *euler_opt = nullptr;
+};
+
+void run_convert(const convert_options& o) {
+    const document_t doc = load_bvh_document(o.input);
+    const anima::up_axis_guess guess = anima::guess_up_axis(doc.skeleton);
+    const bool from_given = o.from_up_opt->count() > 0;
+    const anima::signed_axis from = from_given ? parse_signed_axis(o.from_up) : guess.up;
+    const bool change_up = o.up_opt->count() > 0;
+    const bool change_order = o.order_opt->count() > 0;
+    const bool change_scale = o.scale_opt->count() > 0;
+    // Re-encoding the angles (--euler) also needs the clip; without any of
+    // these the document is written as read, keeping the file's numbers.
+    const bool via_clip = change_up || change_order || change_scale || o.euler_opt->count() > 0;
+    const anima::signed_axis to = change_up ? parse_signed_axis(o.up) : from;
+
+    if (change_up && !from_given && !guess.confident)
+        std::cerr << "anima: warning: cannot tell the up axis of '" << o.input
+                  << "' (no head, neck or foot joint); assuming " << anima::to_string(from)
+                  << ", use --from-up to say otherwise\n";
+
+    anima::bvh_write_options options;
+    options.decimals = o.decimals;
+    options.angles = o.euler == "principal" ? anima::euler_angles::principal : anima::euler_angles::continuous;
+
+    std::string text;
+    skeleton_t written;
+    if (via_clip) {
+        clip_t clip = anima::to_clip(doc);
+        if (change_up && from != to) clip = anima::change_up_axis(clip, from, to);
+        if (change_scale) clip = anima::scale_clip(clip, o.scale);
+        if (change_order) clip = anima::with_rotation_order(clip, anima::parse_euler_order(o.order));
+        try {
+            text = anima::format_bvh(clip, options);
+        } catch (const anima::invalid_argument& e) {
+            // A joint with one or two rotation channels cannot spell a turned
+            // rotation; --order gives every rotating joint three channels.
+            const std::string what = e.what();
+            if (change_order || what.find("rotation channel") == std::string::npos) throw;
+            throw failure(what + "; --order XYZ (or another order) does that");
+        }
+        written = clip.skeleton();
+    } else {
+        text = anima::format_bvh(doc, options);
+        written = doc.skeleton;
+    }
+    write_text_file(o.output, text);
+
+    const std::string order_in = rotation_order_summary(doc.skeleton), order_out = rotation_order_summary(written);
+    if (o.json) {
+        print_json({{"input", o.input},
+                    {"output", o.output},
+                    {"frames", doc.frames},
+                    {"frame_time", doc.frame_time},
+                    {"joints", written.size()},
+                    {"channels", written.channel_count()},
+                    {"order", {{"input", order_in}, {"output", order_out}}},
+                    {"up_axis",
+                     {{"input", anima::to_string(from)},
+                      {"output", anima::to_string(to)},
+                      {"guessed", !from_given},
+                      {"confident", from_given || guess.confident}}},
+                    {"scale", change_scale ? o.scale : 1.0},
+                    {"decimals", o.decimals},
+                    {"reencoded", via_clip},
+                    {"euler", via_clip ? json(o.euler) : json(nullptr)}});
+        return;
+    }
+    std::string line = "wrote " + o.output + ": " + std::to_string(doc.frames) + " frames, " +
+                       std::to_string(written.size()) + " joints, " + std::to_string(written.channel_count()) +
+                       " channels, order ";
+    line += order_out == "mixed" ? "mixed (" + join(rotation_orders(written)) + ")" : order_out;
+    if (order_out != order_in) line += " (was " + order_in + ")";
+    line += ", up " + anima::to_string(to);
+    if (to != from) line += " (was " + anima::to_string(from) + ")";
+    if (change_scale) line += ", scaled by " + format_number(o.scale);
+    line += via_clip ? ", angles re-encoded (" + o.euler + ")" : ", channel values as read";
+    std::cout << line << '\n';
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_convert(CLI::App& app) {
+    using namespace anima_cli;
+    auto opts = std::make_shared<convert_options>();
+    CLI::App* sub = app.add_subcommand(
+        "convert", "Read, validate and write a BVH file, optionally changing rotation order, up axis or scale");
+    sub->add_option("IN", opts->input, "BVH file to read")->required();
+    sub->add_option("OUT", opts->output, "BVH file to write")->required();
+    opts->order_opt = sub->add_option("--order", opts->order,
+                                      "Write every joint's rotation channels in this order (XYZ, XZY, YXZ, YZX, ZXY, ZYX)")
+                          ->type_name("ORDER")
+                          ->check(euler_order_validator());
+    opts->up_opt = sub->add_option("--up", opts->up, "Turn the clip so that this axis is up (+X, -X, +Y, -Y, +Z, -Z)")
+                       ->type_name("AXIS")
+                       ->check(signed_axis_validator());
+    opts->from_up_opt = sub->add_option("--from-up", opts->from_up,
+                                        "The input's up axis, instead of the one guessed from the skeleton")
+                            ->type_name("AXIS")
+                            ->check(signed_axis_validator())
+                            ->needs(opts->up_opt);
+    opts->scale_opt = sub->add_option("--scale", opts->scale, "Multiply every length (offsets, translations) by S")
+                          ->type_name("S")
+                          ->check(CLI::Validator(
+                              [](std::string& s) -> std::string {
+                                  double v = 0;
+                                  if (!CLI::detail::lexical_cast(s, v) || !(v > 0) || !std::isfinite(v))
+                                      return "'" + s + "' is not a positive number";
+                                  return {};
+                              },
+                              "S > 0", "positive scale"));
+    sub->add_option("--decimals", opts->decimals, "Decimals written for offsets and channel values")
+        ->type_name("N")
+        ->check(CLI::Range(0, 17))
+        ->capture_default_str();
+    opts->euler_opt = sub->add_option("--euler", opts->euler,
+                                      "How rotations become angles when the clip is re-encoded: continuous (no "
+                                      "360 degree jumps) or principal (each frame on its own); implies re-encoding")
+                          ->type_name("MODE")
+                          ->check(CLI::IsMember({"continuous", "principal"}))
+                          ->capture_default_str();
+    sub->add_flag("--json", opts->json, "Print a JSON summary instead of a line of text");
+    sub->callback([opts] { run_convert(*opts); });
+}

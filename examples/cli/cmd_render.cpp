@@ -1,0 +1,319 @@
+// anima render IN.bvh OUT.svg: a filmstrip of stick figures at chosen frames.
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace anima_cli {
+namespace {
+
+struct render_options {
+    std::string input, output;
+    std::string frames;  // "0,40,80"
+    int count = 8;
+    std::string view = "front";
+    std::string up;
+    int width = 0, height = 0;
+    CLI::Option *frames_opt = nullptr, *up_opt = nullptr, *width_opt = nullptr, *height_opt = nullptr;
+};
+
+// Layout in pixels.
+constexpr double title_height = 34;   // title line at the top
+constexpr double caption_height = 36; // frame number and time under each panel
+constexpr double padding = 12;        // around each figure
+constexpr double default_height = 360;
+constexpr double min_panel_width = 110;
+constexpr double min_default_width = 420;
+
+constexpr const char* colour_left = "#1f63c6";
+constexpr const char* colour_right = "#d0342c";
+constexpr const char* colour_centre = "#2b2b2b";
+
+/// "0, 40,80" to numbers; throws failure naming the first bad item.
+std::vector<long long> parse_frame_list(const std::string& text) {
+    std::vector<long long> out;
+    std::size_t pos = 0;
+    for (;;) {
+        const std::size_t comma = text.find(',', pos);
+        std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+        item.erase(0, item.find_first_not_of(" \t"));
+        item.erase(item.find_last_not_of(" \t") + 1);
+        long long v = 0;
+        const char* end = item.data() + item.size();
+        const auto r = std::from_chars(item.data(), end, v);
+        if (item.empty() || r.ec != std::errc() || r.ptr != end)
+            throw failure("'" + item + "' is not a frame number (in '" + text + "')");
+        out.push_back(v);
+        if (comma == std::string::npos) return out;
+        pos = comma + 1;
+    }
+}
+
+std::vector<std::size_t> choose_frames(const render_options& o, std::size_t frames) {
+    std::vector<std::size_t> out;
+    if (o.frames_opt->count() > 0) {
+        for (const long long f : parse_frame_list(o.frames)) {
+            if (f < 0 || static_cast<unsigned long long>(f) >= frames)
+                throw failure("frame " + std::to_string(f) + " is out of range: '" + o.input + "' has " +
+                              std::to_string(frames) + (frames == 1 ? " frame (0)" : " frames (0.." + std::to_string(frames - 1) + ")"));
+            out.push_back(static_cast<std::size_t>(f));
+        }
+        return out;
+    }
+    const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(o.count), frames);
+    for (std::size_t i = 0; i < n; ++i)
+        out.push_back(n == 1 ? 0
+                             : static_cast<std::size_t>(std::llround(static_cast<double>(i) *
+                                                                     static_cast<double>(frames - 1) /
+                                                                     static_cast<double>(n - 1))));
+    return out;
+}
+
+/// The figure's left direction in its rest pose: from the mean of its right
+/// joints to the mean of its left joints, snapped to the horizontal axis it is
+/// closest to. Without left/right joint names: the horizontal axis along which
+/// the rest pose is widest.
+anima::signed_axis left_axis(const skeleton_t& sk, anima::signed_axis up) {
+    const auto [joints, ends] = anima::rest_positions(sk);
+    vec3 left = vec3::Zero(), right = vec3::Zero();
+    int nl = 0, nr = 0;
+    for (std::size_t j = 0; j < sk.size(); ++j) {
+        const body_side s = side_of(sk[j].name);
+        if (s == body_side::left) left += joints[j], ++nl;
+        if (s == body_side::right) right += joints[j], ++nr;
+    }
+    const int u = static_cast<int>(up.axis);
+    const int h0 = (u + 1) % 3, h1 = (u + 2) % 3;
+    if (nl > 0 && nr > 0) {
+        const vec3 d = left / nl - right / nr;
+        const int k = std::abs(d[h0]) >= std::abs(d[h1]) ? h0 : h1;
+        if (std::abs(d[k]) > 1e-9) return {static_cast<anima::axis>(k), d[k] < 0 ? -1 : 1};
+    }
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    bool first = true;
+    const auto extend = [&](const vec3& p) {
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = first ? p[k] : std::min(lo[k], p[k]);
+            hi[k] = first ? p[k] : std::max(hi[k], p[k]);
+        }
+        first = false;
+    };
+    for (const auto& p : joints) extend(p);
+    for (const auto& p : ends) extend(p);
+    return {static_cast<anima::axis>(hi[h0] - lo[h0] >= hi[h1] - lo[h1] ? h0 : h1), 1};
+}
+
+struct view_basis {
+    vec3 right;     ///< world direction drawn to the right
+    vec3 up;        ///< world direction drawn upwards
+    vec3 toward;    ///< world direction toward the viewer (for drawing order)
+    bool vertical;  ///< `up` is the figure's up axis (front and side views)
+};
+
+view_basis make_view(const std::string& view, anima::signed_axis up_axis, anima::signed_axis left) {
+    const vec3 up = axis_vector(up_axis), l = axis_vector(left);
+    const vec3 forward = l.cross(up);  // a figure facing +Z with +Y up has its left at +X
+    if (view == "side") return {forward, up, -l, true};  // seen from its right side, walking to the right
+    if (view == "top") return {-l, forward, up, false};  // seen from above, facing up the page
+    return {l, up, forward, true};                       // seen from the front: its left on our right
+}
+
+struct segment {
+    double x1, y1, x2, y2, depth;
+    body_side side;
+};
+
+struct panel {
+    std::size_t frame;
+    std::vector<segment> segments;
+};
+
+const char* colour(body_side s) {
+    return s == body_side::left ? colour_left : s == body_side::right ? colour_right : colour_centre;
+}
+
+void run_render(const render_options& o) {
+    const clip_t clip = load_clip(o.input);
+    if (clip.empty()) throw failure("'" + o.input + "' has no frames to render");
+    const skeleton_t& sk = clip.skeleton();
+    const std::vector<std::size_t> frames = choose_frames(o, clip.frames());
+
+    anima::signed_axis up = parse_signed_axis(o.up.empty() ? "+Y" : o.up);
+    if (o.up_opt->count() == 0) {
+        const anima::up_axis_guess guess = anima::guess_up_axis(sk);
+        up = guess.up;
+        if (!guess.confident)
+            std::cerr << "anima: warning: cannot tell the up axis of '" << o.input
+                      << "' (no head, neck or foot joint); assuming " << anima::to_string(up)
+                      << ", use --up to say otherwise\n";
+    }
+    const view_basis basis = make_view(o.view, up, left_axis(sk, up));
+
+    // Project every chosen frame, each relative to its root's horizontal
+    // position so that the figures stay centred in their panels.
+    std::vector<panel> panels;
+    anima::global_pose<double> pose;
+    double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
+    for (const std::size_t f : frames) {
+        anima::forward_kinematics(clip, f, pose);
+        const std::vector<vec3> ends = anima::end_site_positions(sk, pose);
+        const vec3 root = pose.positions[0];
+        const double rx = root.dot(basis.right), ry = basis.vertical ? 0.0 : root.dot(basis.up);
+        const auto project = [&](const vec3& p, double& x, double& y) {
+            x = p.dot(basis.right) - rx;
+            y = p.dot(basis.up) - ry;
+            xmin = std::min(xmin, x), xmax = std::max(xmax, x);
+            ymin = std::min(ymin, y), ymax = std::max(ymax, y);
+        };
+        panel pn{f, {}};
+        const auto add = [&](const vec3& a, const vec3& b, body_side side) {
+            if ((a - b).norm() < 1e-9) return;
+            segment s{};
+            project(a, s.x1, s.y1);
+            project(b, s.x2, s.y2);
+            s.depth = (a + b).dot(basis.toward) / 2;
+            s.side = side;
+            pn.segments.push_back(s);
+        };
+        for (std::size_t j = 0; j < sk.size(); ++j) {
+            const body_side side = side_of(sk[j].name);
+            if (sk[j].parent >= 0) add(pose.positions[static_cast<std::size_t>(sk[j].parent)], pose.positions[j], side);
+            if (sk[j].end_site) add(pose.positions[j], ends[j], side);
+        }
+        // Far segments first, so that near limbs are drawn over them.
+        std::stable_sort(pn.segments.begin(), pn.segments.end(),
+                         [](const segment& a, const segment& b) { return a.depth < b.depth; });
+        panels.push_back(std::move(pn));
+    }
+    if (!std::isfinite(xmin)) {  // no bones at all: a single joint, say
+        xmin = ymin = -1;
+        xmax = ymax = 1;
+    }
+
+    // The ground: the lowest point the figure reaches anywhere in the clip.
+    double ground = ymin;
+    if (basis.vertical) {
+        for (std::size_t f = 0; f < clip.frames(); ++f) {
+            anima::forward_kinematics(clip, f, pose);
+            for (const vec3& p : pose.positions) ground = std::min(ground, p.dot(basis.up));
+            for (const vec3& p : anima::end_site_positions(sk, pose)) ground = std::min(ground, p.dot(basis.up));
+        }
+        ymin = ground;
+    }
+    double xrange = xmax - xmin, yrange = ymax - ymin;
+    const double extent = std::max({xrange, yrange, 1e-9});
+    xrange = std::max(xrange, extent * 0.05);
+    yrange = std::max(yrange, extent * 0.05);
+
+    // Scale and panel size: one scale for all panels.
+    const std::size_t n = panels.size();
+    const double height = o.height_opt->count() ? o.height : default_height;
+    const double area_h = std::max(10.0, height - title_height - caption_height - 2 * padding);
+    double scale = area_h / yrange;
+    double panel_w = 0, width = 0;
+    if (o.width_opt->count()) {
+        width = o.width;
+        panel_w = width / static_cast<double>(n);
+        scale = std::min(scale, std::max(1e-9, panel_w - 2 * padding) / xrange);
+    } else {
+        panel_w = std::ceil(std::max(min_panel_width, xrange * scale + 2 * padding));
+        width = std::max(min_default_width, panel_w * static_cast<double>(n));
+        panel_w = width / static_cast<double>(n);
+    }
+    const double area_w = panel_w - 2 * padding;
+    const double stroke = std::clamp(yrange * scale / 70, 1.2, 4.0);
+
+    const std::string name = file_name(o.input);
+    const std::string view_name = o.view + " view";
+    svg_document svg(width, height, name + ": " + view_name);
+    svg.rect(0, 0, width, height, "#ffffff");
+    svg.text(10, 22, name + " (" + view_name + ", " + std::to_string(clip.frames()) + " frames at " +
+                         format_number(clip.frame_rate(), 4) + " fps)",
+             14, "#222", "start", true);
+    svg.text(width - 10, 22, "right", 12, colour_right, "end", true);
+    svg.text(width - 52, 22, "left", 12, colour_left, "end", true);
+
+    for (std::size_t i = 0; i < n; ++i) {
+        const panel& pn = panels[i];
+        const double x0 = static_cast<double>(i) * panel_w;
+        // Figure box of xrange x yrange at `scale`, centred horizontally; the
+        // ground sits at the bottom of the drawing area in vertical views.
+        const double bx = x0 + padding + (area_w - xrange * scale) / 2;
+        const double by = basis.vertical ? title_height + padding + area_h
+                                         : title_height + padding + (area_h + yrange * scale) / 2;
+        const auto px = [&](double x) { return bx + (x - xmin) * scale; };
+        const auto py = [&](double y) { return by - (y - ymin) * scale; };
+
+        if (i > 0) svg.line(x0, title_height, x0, height - 6, "#e2e2e2", 1);
+        if (basis.vertical) svg.line(x0 + 6, py(ground), x0 + panel_w - 6, py(ground), "#9a9a9a", 1);
+        svg.raw("<g stroke-linecap=\"round\">");
+        for (const segment& s : pn.segments) svg.line(px(s.x1), py(s.y1), px(s.x2), py(s.y2), colour(s.side), stroke);
+        svg.raw("</g>");
+        const double cx = x0 + panel_w / 2, cy = title_height + 2 * padding + area_h + 12;
+        svg.text(cx, cy, "frame " + std::to_string(pn.frame), 12, "#222", "middle", true);
+        svg.text(cx, cy + 15, format_fixed(static_cast<double>(pn.frame) * clip.frame_time(), 3) + " s", 11, "#666",
+                 "middle");
+    }
+    write_text_file(o.output, svg.str());
+
+    std::vector<std::string> listed;
+    for (const panel& p : panels) listed.push_back(std::to_string(p.frame));
+    std::cout << "wrote " << o.output << ": " << n << (n == 1 ? " frame" : " frames") << " of " << o.input << " ("
+              << join(listed) << "), " << view_name << ", up " << anima::to_string(up) << ", "
+              << svg_number(width) << "x" << svg_number(height) << " px\n";
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_render(CLI::App& app) {
+    using namespace anima_cli;
+    auto opts = std::make_shared<render_options>();
+    CLI::App* sub = app.add_subcommand("render", "Draw stick figures of chosen frames side by side into an SVG file");
+    sub->add_option("IN", opts->input, "BVH file to read")->required();
+    sub->add_option("OUT", opts->output, "SVG file to write")->required();
+    opts->frames_opt = sub->add_option("--frames", opts->frames, "Frames to draw, comma-separated (0-based), e.g. 0,40,80")
+                           ->type_name("F,F,...")
+                           ->check(CLI::Validator(
+                               [](std::string& value) -> std::string {
+                                   try {
+                                       (void)parse_frame_list(value);
+                                       return {};
+                                   } catch (const failure& e) {
+                                       return e.what();
+                                   }
+                               },
+                               "F,F,...", "frame list"));
+    auto* count = sub->add_option("--count", opts->count, "Number of evenly spaced frames to draw, first and last included")
+                      ->type_name("N")
+                      ->check(CLI::Range(1, 1000))
+                      ->capture_default_str();
+    opts->frames_opt->excludes(count);
+    sub->add_option("--view", opts->view,
+                    "front: up and the figure's left-right axis; side: up and its front-back axis (seen from its "
+                    "right); top: seen from above")
+        ->type_name("VIEW")
+        ->check(CLI::IsMember({"front", "side", "top"}))
+        ->capture_default_str();
+    opts->up_opt = sub->add_option("--up", opts->up, "The clip's up axis, instead of the one guessed from the skeleton")
+                       ->type_name("AXIS")
+                       ->check(signed_axis_validator());
+    opts->width_opt = sub->add_option("--width", opts->width, "Width of the image (default: from the figure's proportions)")
+                          ->type_name("PX")
+                          ->check(CLI::Range(50, 100000));
+    opts->height_opt = sub->add_option("--height", opts->height, "Height of the image (default: 360)")
+                           ->type_name("PX")
+                           ->check(CLI::Range(120, 100000));
+    sub->callback([opts] { run_render(*opts); });
+}

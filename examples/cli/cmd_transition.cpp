@@ -1,0 +1,143 @@
+// anima transition A.bvh B.bvh --at FRAME: the variable-timing transition from
+// frame FRAME of A to frame --to of B (or one of the baselines), written as
+// one clip A[..FRAME] + transition + B placed where the transition ends.
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <memory>
+#include <string>
+
+namespace anima_cli {
+namespace {
+
+struct transition_options {
+    std::string a, b, output, method = "variable", timing = "velocity";
+    std::size_t at = 0, to = 0;
+    double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1;
+    bool json = false;
+};
+
+void check_frame(std::size_t frame, const clip_t& c, const std::string& path, const char* option) {
+    if (frame >= c.frames())
+        throw failure(std::string(option) + " " + std::to_string(frame) + " is outside '" + path + "' (" +
+                      std::to_string(c.frames()) + " frames, 0.." + std::to_string(c.frames() ? c.frames() - 1 : 0) +
+                      ")");
+}
+
+void run_transition(const transition_options& o) {
+    const clip_t a = load_clip(o.a);
+    const clip_t b = load_clip(o.b);
+    check_frame(o.at, a, o.a, "--at");
+    check_frame(o.to, b, o.b, "--to");
+    anima::check_same_hierarchy(a.skeleton(), b.skeleton());
+    if (o.min_duration > o.max_duration) throw failure("--min-duration is larger than --max-duration");
+
+    json out = {{"a", o.a}, {"b", o.b}, {"at", o.at}, {"to", o.to}, {"method", o.method}};
+    anima::joined_clip<double> joined;
+    if (o.method == "variable") {
+        anima::transition_params params;
+        params.timing.min_duration = o.min_duration;
+        params.timing.max_duration = o.max_duration;
+        params.timing.model =
+            o.timing == "acceleration" ? anima::timing_model::constant_acceleration : anima::timing_model::velocity;
+        const auto t = anima::make_transition(a, o.at, b, o.to, params);
+        joined = anima::join(a, o.at, t);
+        out["duration"] = t.duration;
+        out["unclamped_duration"] = t.timing.unclamped;
+        out["limiting_joint"] = a.skeleton()[t.timing.limiting_joint].name;
+        out["classes"] = {{"a", anima::to_string(t.class_a.type)}, {"b", anima::to_string(t.class_b.type)}};
+        out["parameter"] = anima::to_string(t.parameter);
+        out["root_path"] = t.flight ? "Eq 13 (gravity)" : "Eq 12";
+        json joints = json::array();
+        for (const auto& jt : t.timing.joints)
+            joints.push_back({{"name", a.skeleton()[jt.joint].name},
+                              {"role", anima::to_string(jt.role)},
+                              {"key", jt.key},
+                              {"angle", jt.angle},
+                              {"speed_a", jt.speed_a},
+                              {"speed_b", jt.speed_b},
+                              {"t", jt.time},
+                              {"method", anima::to_string(t.methods[jt.joint])}});
+        out["joints"] = joints;
+    } else {
+        if (o.method == "cut") joined = anima::direct_cut(a, o.at, b, o.to);
+        else if (o.method == "crossfade") joined = anima::crossfade(a, o.at, b, o.to, o.crossfade);
+        else joined = anima::inertialize(a, o.at, b, o.to, o.halflife);
+        out["duration"] = a.frame_time() * static_cast<double>(joined.end_frame - joined.start_frame);
+    }
+    out["start_frame"] = joined.start_frame;
+    out["end_frame"] = joined.end_frame;
+    out["frames"] = joined.motion.frames();
+    out["frame_time"] = joined.motion.frame_time();
+    out["offsets_from"] = o.a;  // the output uses A's skeleton
+    if (!o.output.empty()) {
+        write_text_file(o.output, anima::format_bvh(joined.motion));
+        out["output"] = o.output;
+    }
+
+    if (o.json) {
+        print_json(out);
+        return;
+    }
+    std::cout << o.method << " transition " << file_name(o.a) << " frame " << o.at << " -> " << file_name(o.b)
+              << " frame " << o.to << ": " << format_fixed(out["duration"].get<double>(), 3) << " s, frames "
+              << joined.start_frame << ".." << joined.end_frame << " of " << joined.motion.frames() << "\n";
+    if (o.method == "variable") {
+        std::cout << "classes: " << out["classes"]["a"].get<std::string>() << " -> "
+                  << out["classes"]["b"].get<std::string>() << "; parameter "
+                  << out["parameter"].get<std::string>() << "; root path " << out["root_path"].get<std::string>()
+                  << "\nT = max t_i over the key joints = " << format_fixed(out["unclamped_duration"].get<double>(), 3)
+                  << " s (" << out["limiting_joint"].get<std::string>() << "), clamped to ["
+                  << format_number(o.min_duration) << ", " << format_number(o.max_duration) << "] s\n";
+        std::cout << "  joint            angle(rad)  speed A  speed B   t_i(s)  method\n";
+        for (const auto& j : out["joints"]) {
+            if (!j["key"].get<bool>()) continue;
+            std::string name = j["name"].get<std::string>();
+            name.resize(std::max<std::size_t>(name.size(), 16), ' ');
+            std::cout << "  " << name << ' ' << format_fixed(j["angle"].get<double>(), 3) << "       "
+                      << format_fixed(j["speed_a"].get<double>(), 2) << "     " << format_fixed(j["speed_b"].get<double>(), 2)
+                      << "    " << format_fixed(j["t"].get<double>(), 3) << "   " << j["method"].get<std::string>()
+                      << '\n';
+        }
+    }
+    if (!o.output.empty()) std::cout << "wrote " << o.output << " (skeleton and offsets of " << file_name(o.a) << ")\n";
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_transition(CLI::App& app) {
+    using namespace anima_cli;
+    auto opts = std::make_shared<transition_options>();
+    CLI::App* sub = app.add_subcommand(
+        "transition", "Join two clips with a variable-timing hierarchical transition (or a baseline) at any frame");
+    sub->add_option("A", opts->a, "BVH clip playing first")->required();
+    sub->add_option("B", opts->b, "BVH clip to switch to (same joint hierarchy)")->required();
+    sub->add_option("--at", opts->at, "Frame of A at which the switch is triggered")->required()->type_name("FRAME");
+    sub->add_option("--to", opts->to, "Frame of B the transition arrives at")->type_name("FRAME")->capture_default_str();
+    sub->add_option("-o,--output", opts->output, "Write the joined clip to this BVH file")->type_name("OUT.bvh");
+    sub->add_option("--method", opts->method,
+                    "variable (the paper's method), cut, crossfade or inertialize")
+        ->check(CLI::IsMember({"variable", "cut", "crossfade", "inertialize"}))
+        ->capture_default_str();
+    sub->add_option("--timing", opts->timing, "t_i from mean angular speeds (velocity) or accelerations (acceleration)")
+        ->check(CLI::IsMember({"velocity", "acceleration"}))
+        ->capture_default_str();
+    sub->add_option("--min-duration", opts->min_duration, "Shortest transition, seconds")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    sub->add_option("--max-duration", opts->max_duration, "Longest transition, seconds")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    sub->add_option("--crossfade-time", opts->crossfade, "Length of the crossfade baseline, seconds")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    sub->add_option("--halflife", opts->halflife, "Half-life of the inertialization spring, seconds")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
+    sub->callback([opts] { run_transition(*opts); });
+}

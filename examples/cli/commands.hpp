@@ -1,0 +1,18 @@
+// The subcommands of the `anima` tool. Each lives in its own
+// cmd_<name>.cpp and adds itself to the application with register_<name>,
+// which main() calls in the order the subcommands appear in --help.
+//
+// A subcommand adds its options and a callback that does the work. The
+// callback reports failures by throwing: anima::error or anima_cli::failure
+// (common.hpp) for runtime errors (main prints "anima: <message>", exit 1),
+// a CLI::ParseError-derived error for usage errors (exit 2).
+#pragma once
+
+namespace CLI {
+class App;
+}
+
+void register_info(CLI::App& app);
+void register_convert(CLI::App& app);
+void register_render(CLI::App& app);
+void register_transition(CLI::App& app);
