@@ -17,15 +17,16 @@ struct convert_options {
     std::string input, output;
     std::string order, up, from_up, euler = "continuous";
     double scale = 1;
-    int decimals = 6;
+    int decimals = 6;  // when --decimals is not given: see run_convert
     bool json = false;
     // Set in register_convert; owned by the CLI::App.
     CLI::Option *order_opt = nullptr, *up_opt = nullptr, *from_up_opt = nullptr, *scale_opt = nullptr,
-                *euler_opt = nullptr;
+                *euler_opt = nullptr, *decimals_opt = nullptr;
 };
 
 void run_convert(const convert_options& o) {
-    const document_t doc = load_bvh_document(o.input);
+    const std::string input_text = read_text_file(o.input);
+    const document_t doc = anima::parse_bvh_document<double>(input_text, o.input);
     const anima::up_axis_guess guess = anima::guess_up_axis(doc.skeleton);
     const bool from_given = o.from_up_opt->count() > 0;
     const anima::signed_axis from = from_given ? parse_signed_axis(o.from_up) : guess.up;
@@ -43,7 +44,9 @@ void run_convert(const convert_options& o) {
                   << ", use --from-up to say otherwise\n";
 
     anima::bvh_write_options options;
-    options.decimals = o.decimals;
+    // Unless told otherwise, a document is written with as many decimals as
+    // the input has (so its numbers come back unchanged), a clip with 6.
+    options.decimals = o.decimals_opt->count() > 0 ? o.decimals : via_clip ? 6 : bvh_value_decimals(input_text);
     options.angles = o.euler == "principal" ? anima::euler_angles::principal : anima::euler_angles::continuous;
 
     std::string text;
@@ -84,7 +87,7 @@ void run_convert(const convert_options& o) {
                       {"guessed", !from_given},
                       {"confident", from_given || guess.confident}}},
                     {"scale", change_scale ? o.scale : 1.0},
-                    {"decimals", o.decimals},
+                    {"decimals", options.decimals},
                     {"reencoded", via_clip},
                     {"euler", via_clip ? json(o.euler) : json(nullptr)}});
         return;
@@ -98,6 +101,7 @@ void run_convert(const convert_options& o) {
     if (to != from) line += " (was " + anima::to_string(from) + ")";
     if (change_scale) line += ", scaled by " + format_number(o.scale);
     line += via_clip ? ", angles re-encoded (" + o.euler + ")" : ", channel values as read";
+    line += ", " + std::to_string(options.decimals) + " decimals";
     std::cout << line << '\n';
 }
 
@@ -109,8 +113,8 @@ void register_convert(CLI::App& app) {
     auto opts = std::make_shared<convert_options>();
     CLI::App* sub = app.add_subcommand(
         "convert", "Read, validate and write a BVH file, optionally changing rotation order, up axis or scale");
-    sub->add_option("IN", opts->input, "BVH file to read")->required();
-    sub->add_option("OUT", opts->output, "BVH file to write")->required();
+    sub->add_option("IN", opts->input, "BVH file to read")->required()->type_name("PATH");
+    sub->add_option("OUT", opts->output, "BVH file to write")->required()->type_name("PATH");
     opts->order_opt = sub->add_option("--order", opts->order,
                                       "Write every joint's rotation channels in this order (XYZ, XZY, YXZ, YZX, ZXY, ZYX)")
                           ->type_name("ORDER")
@@ -132,11 +136,12 @@ void register_convert(CLI::App& app) {
                                       return "'" + s + "' is not a positive number";
                                   return {};
                               },
-                              "S > 0", "positive scale"));
-    sub->add_option("--decimals", opts->decimals, "Decimals written for offsets and channel values")
-        ->type_name("N")
-        ->check(CLI::Range(0, 17))
-        ->capture_default_str();
+                              "> 0", "positive scale"));
+    opts->decimals_opt = sub->add_option("--decimals", opts->decimals,
+                                         "Decimals written for offsets and channel values (default: as many as the "
+                                         "input has when its values are copied, 6 when they are re-encoded)")
+                             ->type_name("N")
+                             ->check(CLI::Range(0, 17));
     opts->euler_opt = sub->add_option("--euler", opts->euler,
                                       "How rotations become angles when the clip is re-encoded: continuous (no "
                                       "360 degree jumps) or principal (each frame on its own); implies re-encoding")

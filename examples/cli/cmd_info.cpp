@@ -125,7 +125,7 @@ void register_info(CLI::App& app) {
     auto opts = std::make_shared<anima_cli::info_options>();
     CLI::App* sub = app.add_subcommand(
         "info", "Print a BVH file's skeleton, frame count and rate, channels, and guessed up axis and units");
-    sub->add_option("FILE", opts->input, "BVH file")->required();
+    sub->add_option("FILE", opts->input, "BVH file")->required()->type_name("PATH");
     sub->add_flag("--json", opts->json, "Print one JSON object instead of text");
     sub->callback([opts] { anima_cli::run_info(*opts); });
 }

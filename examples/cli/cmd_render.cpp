@@ -122,7 +122,7 @@ struct view_basis {
 };
 
 view_basis make_view(const std::string& view, anima::signed_axis up_axis, anima::signed_axis left) {
-    const vec3 up = axis_vector(up_axis), l = axis_vector(left);
+    const vec3 up = anima::axis_vector<double>(up_axis), l = anima::axis_vector<double>(left);
     const vec3 forward = l.cross(up);  // a figure facing +Z with +Y up has its left at +X
     if (view == "side") return {forward, up, -l, true};  // seen from its right side, walking to the right
     if (view == "top") return {-l, forward, up, false};  // seen from above, facing up the page
@@ -227,7 +227,10 @@ void run_render(const render_options& o) {
         panel_w = width / static_cast<double>(n);
         scale = std::min(scale, std::max(1e-9, panel_w - 2 * padding) / xrange);
     } else {
-        panel_w = std::ceil(std::max(min_panel_width, xrange * scale + 2 * padding));
+        // At most twice as wide as high (a figure lying down, say): the
+        // scale then shrinks to fit the width.
+        panel_w = std::ceil(std::clamp(xrange * scale + 2 * padding, min_panel_width, 2 * height));
+        scale = std::min(scale, (panel_w - 2 * padding) / xrange);
         width = std::max(min_default_width, panel_w * static_cast<double>(n));
         panel_w = width / static_cast<double>(n);
     }
@@ -281,8 +284,8 @@ void register_render(CLI::App& app) {
     using namespace anima_cli;
     auto opts = std::make_shared<render_options>();
     CLI::App* sub = app.add_subcommand("render", "Draw stick figures of chosen frames side by side into an SVG file");
-    sub->add_option("IN", opts->input, "BVH file to read")->required();
-    sub->add_option("OUT", opts->output, "SVG file to write")->required();
+    sub->add_option("IN", opts->input, "BVH file to read")->required()->type_name("PATH");
+    sub->add_option("OUT", opts->output, "SVG file to write")->required()->type_name("PATH");
     opts->frames_opt = sub->add_option("--frames", opts->frames, "Frames to draw, comma-separated (0-based), e.g. 0,40,80")
                            ->type_name("F,F,...")
                            ->check(CLI::Validator(
@@ -294,7 +297,7 @@ void register_render(CLI::App& app) {
                                        return e.what();
                                    }
                                },
-                               "F,F,...", "frame list"));
+                               "", "frame list"));
     auto* count = sub->add_option("--count", opts->count, "Number of evenly spaced frames to draw, first and last included")
                       ->type_name("N")
                       ->check(CLI::Range(1, 1000))

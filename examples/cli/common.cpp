@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <system_error>
 
 namespace anima_cli {
@@ -17,13 +18,53 @@ namespace anima_cli {
 // Files
 // ---------------------------------------------------------------------------
 
-document_t load_bvh_document(const std::string& path) {
+std::string read_text_file(const std::string& path) {
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);
     if (status.type() == std::filesystem::file_type::not_found) throw failure("'" + path + "' does not exist");
-    if (status.type() == std::filesystem::file_type::directory)
-        throw failure("'" + path + "' is a directory, not a BVH file");
-    return anima::read_bvh_document<double>(path);
+    if (status.type() == std::filesystem::file_type::directory) throw failure("'" + path + "' is a directory");
+    errno = 0;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        const int err = errno;
+        throw anima::io_error("cannot open '" + path + "' for reading" + (err ? std::string(": ") + std::strerror(err) : ""));
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw anima::io_error("error while reading '" + path + "'");
+    return text.str();
+}
+
+document_t load_bvh_document(const std::string& path) {
+    return anima::parse_bvh_document<double>(read_text_file(path), path);
+}
+
+int bvh_value_decimals(std::string_view text) {
+    const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; };
+    const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+    int best = 0;
+    std::size_t i = 0;
+    bool after_time = false;
+    while (i < text.size()) {
+        while (i < text.size() && space(text[i])) ++i;
+        const std::size_t b = i;
+        while (i < text.size() && !space(text[i])) ++i;
+        const std::string_view t = text.substr(b, i - b);
+        const bool frame_time = after_time;
+        after_time = t == "Time:";
+        if (frame_time) continue;
+        // [sign] digits . digits, nothing else
+        std::size_t k = 0;
+        if (k < t.size() && (t[k] == '+' || t[k] == '-')) ++k;
+        std::size_t digits = 0;
+        while (k < t.size() && digit(t[k])) ++k, ++digits;
+        if (k == t.size() || t[k] != '.') continue;
+        int decimals = 0;
+        for (++k; k < t.size() && digit(t[k]); ++k) ++decimals;
+        if (k != t.size() || digits + static_cast<std::size_t>(decimals) == 0) continue;
+        best = std::max(best, std::min(decimals, 17));
+    }
+    return best;
 }
 
 clip_t load_clip(const std::string& path) { return anima::to_clip(load_bvh_document(path)); }
@@ -112,7 +153,7 @@ CLI::Validator signed_axis_validator() {
                 return e.what();
             }
         },
-        "AXIS", "signed axis");
+        "{+X,-X,+Y,-Y,+Z,-Z}", "signed axis");
 }
 
 CLI::Validator euler_order_validator() {
@@ -125,13 +166,7 @@ CLI::Validator euler_order_validator() {
                 return "'" + value + "' is not a rotation order: use XYZ, XZY, YXZ, YZX, ZXY or ZYX";
             }
         },
-        "ORDER", "euler order");
-}
-
-vec3 axis_vector(anima::signed_axis a) {
-    vec3 v = vec3::Zero();
-    v[static_cast<int>(a.axis)] = a.sign < 0 ? -1.0 : 1.0;
-    return v;
+        "{XYZ,XZY,YXZ,YZX,ZXY,ZYX}", "euler order");
 }
 
 std::vector<std::string> rotation_orders(const skeleton_t& skeleton) {

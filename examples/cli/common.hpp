@@ -43,6 +43,18 @@ document_t load_bvh_document(const std::string& path);
 /// Reads a BVH file into a clip (see load_bvh_document for the errors).
 clip_t load_clip(const std::string& path);
 
+/// The whole content of a file. Throws failure for a missing file or a
+/// directory and anima::io_error when it cannot be read.
+std::string read_text_file(const std::string& path);
+
+/// The most decimals any OFFSET or channel value of BVH text is written with
+/// in plain notation ("-0.0198488": 7), at most 17: with that many,
+/// anima::format_bvh gives every such number back unchanged. Numbers in
+/// exponent notation ("3.88251e-19", rounding noise in some exporters' files)
+/// do not count, nor does the Frame Time (which the writer prints in its
+/// shortest exact form).
+int bvh_value_decimals(std::string_view text);
+
 /// Writes text to a file, replacing it. Throws failure naming the file and
 /// the system's reason when it cannot be opened or written.
 void write_text_file(const std::string& path, std::string_view text);
@@ -80,8 +92,6 @@ anima::signed_axis parse_signed_axis(std::string_view text);
 CLI::Validator signed_axis_validator();
 CLI::Validator euler_order_validator();
 
-/// The unit vector of a signed axis.
-vec3 axis_vector(anima::signed_axis a);
 
 /// The rotation order of a skeleton's joints with three rotation channels:
 /// "ZXY" when they all agree, "mixed" when they differ, "none" when no joint

@@ -27,12 +27,14 @@ int main(int argc, char** argv) {
     app.failure_message([](const CLI::App* a, const CLI::Error& e) { return "anima: " + CLI::FailureMessage::simple(a, e); });
     app.set_version_flag("--version", version_string(), "Print the version and exit");
     app.require_subcommand(1);
-    app.footer("Run 'anima SUBCOMMAND --help' for the options of a subcommand.");
 
     register_info(app);
     register_convert(app);
     register_render(app);
     register_transition(app);
+    // Keep after the last register_*: subcommands created later would copy it
+    // into their own --help.
+    app.footer("Run 'anima SUBCOMMAND --help' for the options of a subcommand.");
 
     try {
         app.parse(argc, argv);

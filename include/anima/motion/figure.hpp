@@ -30,6 +30,14 @@ inline std::string to_string(signed_axis a) {
     return std::string(a.sign < 0 ? "-" : "+") + static_cast<char>('X' + static_cast<int>(a.axis));
 }
 
+/// Unit vector of a signed axis.
+template <class T>
+Eigen::Matrix<T, 3, 1> axis_vector(signed_axis a) {
+    Eigen::Matrix<T, 3, 1> v = Eigen::Matrix<T, 3, 1>::Zero();
+    v[static_cast<int>(a.axis)] = a.sign < 0 ? T(-1) : T(1);
+    return v;
+}
+
 /// The up direction of a figure and whether it was found from named joints.
 struct up_axis_guess {
     signed_axis up;

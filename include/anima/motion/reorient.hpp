@@ -46,9 +46,7 @@ clip<T> rotate_clip(const clip<T>& c, const Eigen::Quaternion<T>& r_in) {
 /// an axis orthogonal to both.
 template <class T>
 Eigen::Quaternion<T> axis_change(signed_axis from, signed_axis to) {
-    Eigen::Matrix<T, 3, 1> a = Eigen::Matrix<T, 3, 1>::Zero(), b = Eigen::Matrix<T, 3, 1>::Zero();
-    a[static_cast<int>(from.axis)] = T(from.sign);
-    b[static_cast<int>(to.axis)] = T(to.sign);
+    const Eigen::Matrix<T, 3, 1> a = axis_vector<T>(from), b = axis_vector<T>(to);
     const T d = a.dot(b);
     if (d > T(0.5)) return Eigen::Quaternion<T>::Identity();
     if (d < T(-0.5)) {

@@ -73,14 +73,6 @@ point_motion<T> root_motion_at(const clip<T>& c, std::size_t frame, std::size_t 
     return out;
 }
 
-/// Unit vector of a signed axis.
-template <class T>
-Eigen::Matrix<T, 3, 1> axis_vector(signed_axis a) {
-    Eigen::Matrix<T, 3, 1> v = Eigen::Matrix<T, 3, 1>::Zero();
-    v[static_cast<int>(a.axis)] = T(a.sign);
-    return v;
-}
-
 /// The turn about `up` that takes the heading of orientation `from` to that
 /// of `to` (headings are the twists about the up axis).
 template <class T>
