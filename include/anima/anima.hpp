@@ -5,7 +5,9 @@
 #include <anima/bvh.hpp>
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/random.hpp>
 #include <anima/core/version.hpp>
 #include <anima/motion.hpp>
 #include <anima/rotation.hpp>
+#include <anima/symmetry.hpp>
 #include <anima/transition.hpp>

@@ -9,5 +9,6 @@
 #include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/reorient.hpp>
 #include <anima/motion/resample.hpp>
+#include <anima/motion/resequence.hpp>
 #include <anima/motion/skeleton.hpp>
 #include <anima/motion/velocities.hpp>
