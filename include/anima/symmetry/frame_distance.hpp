@@ -72,6 +72,13 @@ struct frame_distance {
 };
 
 namespace detail {
+template <class T>
+void check_frame_time(T frame_time, const char* function) {
+    if (!(frame_time > T(0)) || !std::isfinite(frame_time))
+        throw invalid_argument(std::string(function) + ": frame time must be positive and finite, got " +
+                               std::to_string(static_cast<double>(frame_time)));
+}
+
 template <class Derived>
 void check_finite_dofs(const Eigen::MatrixBase<Derived>& dofs, const char* function) {
     for (Eigen::Index c = 0; c < dofs.cols(); ++c)
@@ -80,40 +87,68 @@ void check_finite_dofs(const Eigen::MatrixBase<Derived>& dofs, const char* funct
                 throw invalid_argument(std::string(function) + ": non-finite DOF value at frame " + std::to_string(r) +
                                        ", column " + std::to_string(c));
 }
-}  // namespace detail
 
-/// The diagonal of Eq 2's C^-1: 1 / max(var_d, regularization * max_d var_d)
-/// with var_d the variance over frames of DOF d's velocity. When nothing moves
-/// at all every weight is 1 (every distance is then 0 anyway).
+// velocity_precision after its arguments were checked.
 template <class Derived>
-Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> velocity_precision(
-    const Eigen::MatrixBase<Derived>& dofs, typename Derived::Scalar frame_time,
-    typename Derived::Scalar regularization = typename Derived::Scalar(1e-3)) {
+Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> velocity_precision(const Eigen::MatrixBase<Derived>& dofs,
+                                                                              typename Derived::Scalar frame_time,
+                                                                              typename Derived::Scalar regularization) {
     using T = typename Derived::Scalar;
-    if (!(regularization > T(0)) || !(regularization <= T(1)))
-        throw invalid_argument("anima::velocity_precision: regularization must be in (0, 1], got " +
-                               std::to_string(static_cast<double>(regularization)));
     Eigen::Matrix<T, Eigen::Dynamic, 1> precision = Eigen::Matrix<T, Eigen::Dynamic, 1>::Ones(dofs.cols());
     if (dofs.rows() < 2) return precision;
-    const auto velocity = time_derivative(dofs, frame_time);
-    const Eigen::Matrix<T, 1, Eigen::Dynamic> mean = velocity.colwise().mean();
-    const Eigen::Matrix<T, 1, Eigen::Dynamic> variance =
-        (velocity.rowwise() - mean).colwise().squaredNorm() / static_cast<T>(velocity.rows());
+    // One column at a time: the whole velocity matrix would double the
+    // memory a long clip needs.
+    Eigen::Matrix<T, Eigen::Dynamic, 1> variance(dofs.cols());
+    for (Eigen::Index d = 0; d < dofs.cols(); ++d) {
+        const Eigen::Matrix<T, Eigen::Dynamic, 1> velocity = time_derivative(dofs.col(d), frame_time);
+        variance[d] = (velocity.array() - velocity.mean()).square().sum() / static_cast<T>(velocity.size());
+        if (!std::isfinite(variance[d]))
+            throw invalid_argument("anima::velocity_precision: the velocity variance of column " + std::to_string(d) +
+                                   " overflows the scalar type; scale the DOFs down");
+    }
     const T floor = regularization * (variance.size() ? variance.maxCoeff() : T(0));
-    if (!(floor > T(0))) return precision;
+    // A floor whose inverse overflows is motion below T's resolution.
+    if (!(floor > T(0)) || !std::isfinite(T(1) / floor)) return precision;
     for (Eigen::Index d = 0; d < variance.size(); ++d) precision[d] = T(1) / std::max(variance[d], floor);
     return precision;
 }
 
+template <class T>
+void check_regularization(T regularization, const char* function) {
+    if (!(regularization > T(0)) || !(regularization <= T(1)))
+        throw invalid_argument(std::string(function) + ": regularization must be in (0, 1], got " +
+                               std::to_string(static_cast<double>(regularization)));
+}
+}  // namespace detail
+
+/// The diagonal of Eq 2's C^-1: 1 / max(var_d, regularization * max_d var_d)
+/// with var_d the variance over frames (divided by the frame count) of DOF
+/// d's velocity, anima::time_derivative. When nothing moves at all, or there
+/// are fewer than two frames, every weight is 1 (every distance is then 0
+/// anyway). Throws anima::invalid_argument for a regularization outside
+/// (0, 1], a bad frame time, a non-finite value or a variance that
+/// overflows the scalar type.
+template <class Derived>
+Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> velocity_precision(
+    const Eigen::MatrixBase<Derived>& dofs, typename Derived::Scalar frame_time,
+    typename Derived::Scalar regularization = typename Derived::Scalar(1e-3)) {
+    detail::check_regularization(regularization, "anima::velocity_precision");
+    detail::check_frame_time(frame_time, "anima::velocity_precision");
+    detail::check_finite_dofs(dofs, "anima::velocity_precision");
+    return detail::velocity_precision(dofs, frame_time, regularization);
+}
+
 /// The distance of `params.metric` for this DOF matrix (frames x DOFs, e.g.
 /// anima::to_dof_matrix or anima::frame_features). Throws
-/// anima::invalid_argument for a non-finite value, a bad frame time or an L2
-/// block size that does not divide the DOF count.
+/// anima::invalid_argument for a non-finite value, a bad frame time, a
+/// regularization outside (0, 1] (Mahalanobis) or an L2 block size that does
+/// not divide the DOF count.
 template <class Derived>
 frame_distance<typename Derived::Scalar> make_frame_distance(
     const Eigen::MatrixBase<Derived>& dofs, typename Derived::Scalar frame_time,
     const frame_distance_params<typename Derived::Scalar>& params = {}) {
     using T = typename Derived::Scalar;
+    detail::check_frame_time(frame_time, "anima::make_frame_distance");
     detail::check_finite_dofs(dofs, "anima::make_frame_distance");
     frame_distance<T> d;
     d.metric = params.metric;
@@ -124,7 +159,8 @@ frame_distance<typename Derived::Scalar> make_frame_distance(
                                    " does not divide the " + std::to_string(dofs.cols()) + " DOFs");
         return d;
     }
-    d.precision = velocity_precision(dofs, frame_time, params.regularization);
+    detail::check_regularization(params.regularization, "anima::make_frame_distance");
+    d.precision = detail::velocity_precision(dofs, frame_time, params.regularization);
     return d;
 }
 
@@ -137,6 +173,9 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> distance_matrix(const Eigen::Ma
     if (distance.metric == frame_metric::mahalanobis && distance.precision.size() != dofs.cols())
         throw invalid_argument("anima::distance_matrix: the distance has " + std::to_string(distance.precision.size()) +
                                " DOF weights, the matrix " + std::to_string(dofs.cols()) + " DOFs");
+    if (distance.metric == frame_metric::l2 && (distance.block_size < 1 || dofs.cols() % distance.block_size != 0))
+        throw invalid_argument("anima::distance_matrix: L2 block size " + std::to_string(distance.block_size) +
+                               " does not divide the " + std::to_string(dofs.cols()) + " DOFs");
     // Frames as contiguous columns: each distance reads two of them.
     const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frames = dofs.transpose();
     const Eigen::Index n = frames.cols();
@@ -148,12 +187,17 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> distance_matrix(const Eigen::Ma
     return out;
 }
 
-/// Eq 1: the similarity exp(-distance / sigma) of an L2 distance, in (0, 1].
+/// Eq 1: the similarity exp(-distance / sigma) of an L2 distance, in [0, 1]
+/// (1 for equal frames; 0 only where the exponential underflows). Throws
+/// anima::invalid_argument for a negative or NaN distance or a bad sigma.
 template <class T>
 T l2_similarity(T distance, T sigma) {
     if (!(sigma > T(0)) || !std::isfinite(sigma))
         throw invalid_argument("anima::l2_similarity: sigma must be positive and finite, got " +
                                std::to_string(static_cast<double>(sigma)));
+    if (!(distance >= T(0)))
+        throw invalid_argument("anima::l2_similarity: distance must be >= 0, got " +
+                               std::to_string(static_cast<double>(distance)));
     return std::exp(-distance / sigma);
 }
 

@@ -35,6 +35,12 @@ struct symmetry_params {
     int smoothness = 0;
     /// Half-width of Eq 5's local-maximum window; 0 means `radius`.
     int candidate_radius = 0;
+    /// Frames compared on fewer pairs than this are never candidates; 0
+    /// means `radius`, capped at the most pairs any frame of the clip has
+    /// (a clip shorter than 2 radius + 1 frames). Near the clip's ends a frame is judged on one or two
+    /// short pairs and looks symmetric by accident (frame 1 of a walk scores
+    /// 0.95); its score is still reported.
+    int min_pairs = 0;
 };
 
 /// A frame where playback may reverse.
@@ -61,30 +67,36 @@ struct symmetry_result {
 };
 
 namespace detail {
-inline void check_symmetry_params(int radius, int smoothness, int candidate_radius) {
+inline void check_symmetry_params(int radius, int smoothness, int candidate_radius, int min_pairs, const char* function) {
     if (radius < 1)
-        throw invalid_argument("anima::symmetry_scores: radius (n of Eq 3) must be at least 1, got " + std::to_string(radius));
-    if (smoothness < 0 || 2 * (radius - smoothness) < radius - 1)
-        throw invalid_argument("anima::symmetry_scores: smoothness (s of Eq 3) must be in [0, " +
-                               std::to_string((radius + 1) / 2) + "] for radius " + std::to_string(radius) + ", got " +
-                               std::to_string(smoothness));
+        throw invalid_argument(std::string(function) + ": radius (n of Eq 3) must be at least 1, got " +
+                               std::to_string(radius));
+    // 64 bits: 2(n - s) overflows an int for a radius near INT_MAX.
+    if (smoothness < 0 || 2 * (static_cast<long long>(radius) - smoothness) < static_cast<long long>(radius) - 1)
+        throw invalid_argument(std::string(function) + ": smoothness (s of Eq 3) must be in [0, " +
+                               std::to_string((static_cast<long long>(radius) + 1) / 2) + "] for radius " +
+                               std::to_string(radius) + ", got " + std::to_string(smoothness));
     if (candidate_radius < 0)
-        throw invalid_argument("anima::symmetry_scores: candidate radius must be >= 0, got " +
+        throw invalid_argument(std::string(function) + ": candidate radius must be >= 0, got " +
                                std::to_string(candidate_radius));
+    if (min_pairs < 0 || min_pairs > radius)
+        throw invalid_argument(std::string(function) + ": min_pairs must be in [0, radius = " + std::to_string(radius) +
+                               "], got " + std::to_string(min_pairs));
 }
-}  // namespace detail
 
-/// Eq 3's weights C(2(n-s), n-r) for r = 1..n, scaled to sum to 1 (only
-/// their ratios matter once the end frames are normalised by the weights
-/// used). Computed in logarithms: C(2n, n) overflows a double near n = 515.
+// Eq 3's weights for r = 1..count (count <= radius), scaled to sum to 1.
+// Logarithms relative to r = 1 by the ratio of neighbouring binomials,
+// C(m, k-1) / C(m, k) = k / (m-k+1) with k = n-r. Not lgamma: POSIX lets
+// it write the global signgam, a data race when threads score clips.
 template <class T>
-std::vector<T> binomial_weights(int radius, int smoothness) {
-    detail::check_symmetry_params(radius, smoothness, 0);
-    const double m = 2.0 * (radius - smoothness);
-    std::vector<double> logs(static_cast<std::size_t>(radius));
-    for (int r = 1; r <= radius; ++r) {
-        const double k = radius - r;
-        logs[static_cast<std::size_t>(r - 1)] = std::lgamma(m + 1) - std::lgamma(k + 1) - std::lgamma(m - k + 1);
+std::vector<T> binomial_weights(int radius, int smoothness, int count) {
+    const double n = radius, m = 2.0 * (n - smoothness);
+    std::vector<double> logs(static_cast<std::size_t>(count));
+    if (logs.empty()) return {};
+    logs[0] = 0;
+    for (int r = 1; r < count; ++r) {
+        const double k = n - r;
+        logs[static_cast<std::size_t>(r)] = logs[static_cast<std::size_t>(r - 1)] + std::log(k) - std::log(m - k + 1);
     }
     const double top = *std::max_element(logs.begin(), logs.end());
     double sum = 0;
@@ -95,24 +107,40 @@ std::vector<T> binomial_weights(int radius, int smoothness) {
     for (std::size_t k = 0; k < w.size(); ++k) w[k] = std::max(static_cast<T>(logs[k] / sum), std::numeric_limits<T>::min());
     return w;
 }
+}  // namespace detail
+
+/// Eq 3's weights C(2(n-s), n-r) for r = 1..n, scaled to sum to 1 (only
+/// their ratios matter once the end frames are normalised by the weights
+/// used). Computed in logarithms: C(2n, n) overflows a double near n = 515.
+/// Throws anima::invalid_argument for a radius below 1 or a smoothness
+/// outside [0, (radius+1)/2].
+template <class T>
+std::vector<T> binomial_weights(int radius, int smoothness) {
+    detail::check_symmetry_params(radius, smoothness, 0, 0, "anima::binomial_weights");
+    return detail::binomial_weights<T>(radius, smoothness, radius);
+}
 
 /// Eq 5: frames whose score is the largest within +-window (the first
-/// frame of a plateau), excluding frames without pairs and zero scores,
-/// sorted by score, highest first.
+/// frame of a plateau) among the frames compared on at least min_pairs
+/// pairs (>= 1), zero scores excluded, sorted by score, highest first.
 template <class T>
 std::vector<turning_candidate<T>> turning_candidates(const Eigen::Matrix<T, Eigen::Dynamic, 1>& score,
-                                                     const std::vector<int>& pairs, int window) {
+                                                     const std::vector<int>& pairs, int window, int min_pairs = 1) {
     if (static_cast<std::size_t>(score.size()) != pairs.size())
         throw invalid_argument("anima::turning_candidates: " + std::to_string(score.size()) + " scores but " +
                                std::to_string(pairs.size()) + " pair counts");
     if (window < 1) throw invalid_argument("anima::turning_candidates: window must be at least 1, got " + std::to_string(window));
+    if (min_pairs < 1)
+        throw invalid_argument("anima::turning_candidates: min_pairs must be at least 1, got " + std::to_string(min_pairs));
     std::vector<turning_candidate<T>> out;
     const Eigen::Index n = score.size();
     for (Eigen::Index i = 0; i < n; ++i) {
-        if (pairs[static_cast<std::size_t>(i)] == 0 || !(score[i] > T(0))) continue;
+        if (pairs[static_cast<std::size_t>(i)] < min_pairs || !(score[i] > T(0))) continue;
         bool best = true;
+        // Frames with too few pairs neither turn nor suppress a neighbour:
+        // their scores are not comparable.
         for (Eigen::Index k = std::max<Eigen::Index>(0, i - window); best && k <= std::min(n - 1, i + window); ++k)
-            best = k < i ? score[k] < score[i] : score[k] <= score[i];
+            if (pairs[static_cast<std::size_t>(k)] >= min_pairs) best = k < i ? score[k] < score[i] : score[k] <= score[i];
         if (best) out.push_back({static_cast<std::size_t>(i), score[i], score[i] / T(2)});
     }
     std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.score > b.score; });
@@ -120,15 +148,20 @@ std::vector<turning_candidate<T>> turning_candidates(const Eigen::Matrix<T, Eige
 }
 
 /// Symmetry of every frame of a frames x DOF matrix (see frame_features).
-/// Throws anima::invalid_argument for bad parameters or non-finite values.
+/// Throws anima::invalid_argument for bad parameters, a bad frame time,
+/// non-finite values or distances that overflow the scalar type.
 template <class Derived>
 symmetry_result<typename Derived::Scalar> symmetry_scores(const Eigen::MatrixBase<Derived>& dofs,
                                                           typename Derived::Scalar frame_time,
                                                           const symmetry_params<typename Derived::Scalar>& params = {}) {
     using T = typename Derived::Scalar;
-    detail::check_symmetry_params(params.radius, params.smoothness, params.candidate_radius);
+    detail::check_symmetry_params(params.radius, params.smoothness, params.candidate_radius, params.min_pairs,
+                                  "anima::symmetry_scores");
     const auto distance = make_frame_distance(dofs, frame_time, params.distance);
-    const auto weights = binomial_weights<T>(params.radius, params.smoothness);
+    // Only the pairs a frame of this clip can have: a radius far beyond the
+    // clip's length costs nothing.
+    const int widest = static_cast<int>(std::min<Eigen::Index>(params.radius, std::max<Eigen::Index>(0, (dofs.rows() - 1) / 2)));
+    const auto weights = detail::binomial_weights<T>(params.radius, params.smoothness, widest);
     // Frames as contiguous columns: every pair reads two of them. For Eq 2
     // the columns are scaled by sqrt(C^-1), making each pair a squared norm.
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frames = dofs.transpose();
@@ -152,6 +185,10 @@ symmetry_result<typename Derived::Scalar> symmetry_scores(const Eigen::MatrixBas
         out.pairs[static_cast<std::size_t>(i)] = static_cast<int>(reach);
         if (reach > 0) {
             out.weighted_distance[i] = sum / used;
+            // Finite DOFs can still overflow T once squared and summed.
+            if (!std::isfinite(out.weighted_distance[i]))
+                throw invalid_argument("anima::symmetry_scores: the distances around frame " + std::to_string(i) +
+                                       " overflow the scalar type; scale the DOFs down");
             largest = std::max(largest, out.weighted_distance[i]);
         }
     }
@@ -163,7 +200,8 @@ symmetry_result<typename Derived::Scalar> symmetry_scores(const Eigen::MatrixBas
         }
         out.score[i] = largest > T(0) ? T(1) - out.weighted_distance[i] / largest : T(1);
     }
-    out.candidates = turning_candidates(out.score, out.pairs, params.candidate_radius ? params.candidate_radius : params.radius);
+    out.candidates = turning_candidates(out.score, out.pairs, params.candidate_radius ? params.candidate_radius : params.radius,
+                                        std::max(1, params.min_pairs ? params.min_pairs : widest));
     return out;
 }
 
