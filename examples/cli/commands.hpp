@@ -16,3 +16,6 @@ void register_info(CLI::App& app);
 void register_convert(CLI::App& app);
 void register_render(CLI::App& app);
 void register_transition(CLI::App& app);
+void register_symmetry(CLI::App& app);
+void register_playback(CLI::App& app);
+void register_maxflow(CLI::App& app);

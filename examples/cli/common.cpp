@@ -12,6 +12,13 @@
 #include <sstream>
 #include <system_error>
 
+#ifdef ANIMA_HAVE_STB
+// The implementation lives here, static: no other file needs to define it.
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STB_IMAGE_WRITE_STATIC
+#include <stb_image_write.h>
+#endif
+
 namespace anima_cli {
 
 // ---------------------------------------------------------------------------
@@ -294,6 +301,206 @@ std::string svg_document::str() const {
     out += body_;
     out += "</svg>\n";
     return out;
+}
+
+// ---------------------------------------------------------------------------
+// PNG
+// ---------------------------------------------------------------------------
+
+void require_png(std::string_view what_for) {
+#ifndef ANIMA_HAVE_STB
+    throw failure(std::string(what_for) +
+                  ": this anima was built without stb_image_write.h, so it cannot write PNG files (install stb, "
+                  "e.g. Debian's libstb-dev, and rebuild)");
+#else
+    (void)what_for;
+#endif
+}
+
+void write_png(const std::string& path, int width, int height, int channels, const std::vector<unsigned char>& pixels,
+               std::string_view what_for) {
+    require_png(what_for);
+    if (width < 1 || height < 1 || channels < 1 || channels > 4 ||
+        pixels.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels))
+        throw failure("cannot write '" + path + "': " + std::to_string(pixels.size()) + " pixel values for a " +
+                      std::to_string(width) + "x" + std::to_string(height) + " image with " + std::to_string(channels) +
+                      " channels");
+#ifdef ANIMA_HAVE_STB
+    std::string png;
+    const auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+    };
+    if (!stbi_write_png_to_func(append, &png, width, height, channels, pixels.data(), width * channels))
+        throw failure(std::string(what_for) + ": cannot encode '" + path + "' as PNG");
+    write_text_file(path, png);
+#endif
+}
+
+// ---------------------------------------------------------------------------
+// Motion for the symmetry subcommands
+// ---------------------------------------------------------------------------
+
+void add_frame_range_options(CLI::App& sub, frame_range_options& o) {
+    sub.add_option("--first", o.first, "First frame to use, e.g. to leave out a rest pose the clip starts with")
+        ->type_name("FRAME")
+        ->capture_default_str();
+    o.last_opt = sub.add_option("--last", o.last, "Last frame to use (default: the clip's last)")->type_name("FRAME");
+    o.up_opt = sub.add_option("--up", o.up, "The clip's up axis, instead of the one guessed from the skeleton")
+                   ->type_name("AXIS")
+                   ->check(signed_axis_validator());
+}
+
+namespace {
+
+/// Whether the first frame has every joint that moves during the clip (by
+/// more than a degree) within `degrees` of its rest orientation. Joints that
+/// never move, such as uncaptured fingers, may be held at any angle.
+bool starts_at_rest_pose(const clip_t& c, double degrees) {
+    const double limit = anima::radians(degrees), still = anima::radians(1.0);
+    bool moves = false;
+    for (std::size_t j = 0; j < c.joints(); ++j) {
+        const Eigen::Quaterniond first = c.rotation(0, j);
+        bool joint_moves = false;
+        for (std::size_t f = 1; f < c.frames() && !joint_moves; ++f)
+            joint_moves = anima::angle_between(first, c.rotation(f, j)) > still;
+        if (!joint_moves) continue;
+        moves = true;
+        if (anima::angle_between(Eigen::Quaterniond::Identity(), first) > limit) return false;
+    }
+    return moves;
+}
+
+double median_of(std::vector<double> v) {
+    if (v.empty()) return 0;
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+}
+
+/// Where motion that starts by swinging out of a rest pose settles down: the
+/// first frame f >= 1 whose step to f + 1 is ordinary, that is, for the
+/// median DOF, less than `factor` times that DOF's median step over the
+/// clip. 0 when it cannot tell.
+std::size_t settled_frame(const Eigen::MatrixXd& features, double factor) {
+    const Eigen::Index n = features.rows();
+    if (n < 4) return 0;
+    const Eigen::MatrixXd steps = (features.bottomRows(n - 1) - features.topRows(n - 1)).cwiseAbs();
+    std::vector<double> median_step(static_cast<std::size_t>(steps.cols()));
+    for (Eigen::Index d = 0; d < steps.cols(); ++d)
+        median_step[static_cast<std::size_t>(d)] =
+            median_of(std::vector<double>(steps.col(d).data(), steps.col(d).data() + steps.rows()));
+    // DOFs that do not move (or only by rounding noise) say nothing.
+    const double floor = 1e-6 * *std::max_element(median_step.begin(), median_step.end());
+    std::vector<Eigen::Index> moving;
+    std::vector<double> typical;
+    for (Eigen::Index d = 0; d < steps.cols(); ++d)
+        if (median_step[static_cast<std::size_t>(d)] > floor) {
+            moving.push_back(d);
+            typical.push_back(median_step[static_cast<std::size_t>(d)]);
+        }
+    if (moving.empty()) return 0;
+    for (Eigen::Index f = 1; f < steps.rows(); ++f) {
+        std::vector<double> ratio;
+        for (std::size_t k = 0; k < moving.size(); ++k) ratio.push_back(steps(f, moving[k]) / typical[k]);
+        if (median_of(ratio) < factor) return static_cast<std::size_t>(f);
+    }
+    return 0;
+}
+
+}  // namespace
+
+motion_range load_motion_range(const std::string& path, const frame_range_options& o) {
+    const std::string text = read_text_file(path);
+    const clip_t whole = anima::to_clip(anima::parse_bvh_document<double>(text, path));
+    const std::size_t n = whole.frames();
+    if (n == 0) throw failure("'" + path + "' has no frames");
+    const bool last_given = o.last_opt && o.last_opt->count() > 0;
+    const std::size_t last = last_given ? o.last : n - 1;
+    const auto outside = [&](const char* option, std::size_t frame) {
+        return failure(std::string(option) + " " + std::to_string(frame) + " is outside '" + path + "' (" +
+                       std::to_string(n) + (n == 1 ? " frame, 0)" : " frames, 0.." + std::to_string(n - 1) + ")"));
+    };
+    if (o.first >= n) throw outside("--first", o.first);
+    if (last >= n) throw outside("--last", last);
+    if (o.first > last)
+        throw CLI::ValidationError("--first", "frame " + std::to_string(o.first) + " is after --last " + std::to_string(last));
+
+    motion_range out;
+    out.first = o.first;
+    out.clip = o.first == 0 && last + 1 == n ? whole : whole.slice(o.first, last + 1);
+    out.decimals = bvh_value_decimals(text);
+    if (o.up_opt && o.up_opt->count() > 0) {
+        out.up = parse_signed_axis(o.up);
+    } else {
+        const anima::up_axis_guess guess = anima::guess_up_axis(whole.skeleton());
+        out.up = guess.up;
+        if (!guess.confident)
+            std::cerr << "anima: warning: cannot tell the up axis of '" << path
+                      << "' (no head, neck or foot joint); assuming " << anima::to_string(out.up)
+                      << ", use --up to say otherwise\n";
+    }
+    anima::frame_feature_params features;
+    features.up = out.up;
+    out.features = anima::frame_features(out.clip, features);
+
+    // A rest pose (T-pose) that an exporter put before the motion, often
+    // followed by a few frames that swing out of it: their large steps would
+    // inflate Eq 2's velocity variances, and they are no motion to play.
+    if (out.clip.frames() > 1 && starts_at_rest_pose(out.clip, 10.0)) {
+        const std::size_t settled = std::max<std::size_t>(1, settled_frame(out.features, 2.0));
+        std::cerr << "anima: warning: frame " << o.first << " of '" << path
+                  << "' is the skeleton's rest pose, not motion";
+        if (settled > 1)
+            std::cerr << ", and the motion swings out of it until about frame " << o.first + settled;
+        std::cerr << ": --first " << o.first + settled << " leaves " << (settled > 1 ? "them" : "it") << " out\n";
+    }
+    return out;
+}
+
+std::vector<CLI::Option*> add_symmetry_options(CLI::App& sub, symmetry_options& o) {
+    return {sub.add_option("--metric", o.metric, "Frame distance: mahalanobis (Eq 2) or l2 (Eq 1)")
+                ->check(CLI::IsMember({"mahalanobis", "l2"}))
+                ->capture_default_str(),
+            sub.add_option("--window", o.window, "n of Eq 3: frames i-r and i+r are compared for r = 1..N")
+                ->type_name("N")
+                ->check(CLI::Range(1, 100000))
+                ->capture_default_str(),
+            sub.add_option("--smoothness", o.smoothness, "s of Eq 3: the binomial weights peak at r = S, 0..(N+1)/2")
+                ->type_name("S")
+                ->check(CLI::NonNegativeNumber)
+                ->capture_default_str(),
+            sub.add_option("--candidate-window", o.candidate_window,
+                           "Eq 5: a candidate is the highest score within +-N frames (0: --window)")
+                ->type_name("N")
+                ->check(CLI::NonNegativeNumber)
+                ->capture_default_str(),
+            sub.add_option("--min-pairs", o.min_pairs,
+                           "Frames compared on fewer pairs (near the ends) are never candidates (0: --window)")
+                ->type_name("N")
+                ->check(CLI::NonNegativeNumber)
+                ->capture_default_str()};
+}
+
+anima::symmetry_params<double> make_symmetry_params(const symmetry_options& o) {
+    if (o.smoothness > (o.window + 1) / 2)
+        throw CLI::ValidationError("--smoothness", std::to_string(o.smoothness) + " is outside 0.." +
+                                                       std::to_string((o.window + 1) / 2) + " for --window " +
+                                                       std::to_string(o.window));
+    if (o.min_pairs > o.window)
+        throw CLI::ValidationError("--min-pairs", std::to_string(o.min_pairs) + " is more than --window " +
+                                                      std::to_string(o.window) + " (the most pairs a frame has)");
+    anima::symmetry_params<double> p;
+    p.distance.metric = anima::parse_frame_metric(o.metric);
+    p.radius = o.window;
+    p.smoothness = o.smoothness;
+    p.candidate_radius = o.candidate_window;
+    p.min_pairs = o.min_pairs;
+    return p;
+}
+
+int candidate_min_pairs(const anima::symmetry_params<double>& p, std::size_t frames) {
+    const auto widest = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(p.radius), frames > 0 ? (frames - 1) / 2 : 0));
+    return std::max(1, p.min_pairs ? p.min_pairs : widest);
 }
 
 }  // namespace anima_cli

@@ -1,7 +1,8 @@
 // Helpers shared by the `anima` subcommands: loading BVH files with readable
 // errors, writing output files, JSON and number formatting, option
-// validators, left/right classification of joint names and a small SVG
-// writer.
+// validators, left/right classification of joint names, a small SVG
+// writer, a PNG writer, and the frame range and metric options the symmetry
+// subcommands share.
 #pragma once
 
 #include <anima/anima.hpp>
@@ -152,5 +153,72 @@ private:
 
 /// A coordinate for SVG output, two decimals, no trailing zeros.
 std::string svg_number(double value);
+
+// ---------------------------------------------------------------------------
+// PNG
+// ---------------------------------------------------------------------------
+
+/// Throws failure, naming `what_for` (e.g. "--matrix"), when this build
+/// cannot write PNG files (stb_image_write was not found). Call it before
+/// doing the work whose result is to be written.
+void require_png(std::string_view what_for);
+
+/// Writes 8-bit pixels, rows top to bottom, `channels` values per pixel
+/// (1 grey, 3 RGB, 4 RGBA), as a PNG file. Throws failure as require_png
+/// does, for a pixel count that does not match, or when the file cannot be
+/// written.
+void write_png(const std::string& path, int width, int height, int channels, const std::vector<unsigned char>& pixels,
+               std::string_view what_for);
+
+// ---------------------------------------------------------------------------
+// Motion for the symmetry subcommands (symmetry, playback)
+// ---------------------------------------------------------------------------
+
+/// The part of a clip to analyse and the up axis to analyse it with.
+struct frame_range_options {
+    std::size_t first = 0, last = 0;
+    std::string up;
+    CLI::Option *last_opt = nullptr, *up_opt = nullptr;
+};
+
+/// Adds --first, --last and --up.
+void add_frame_range_options(CLI::App& sub, frame_range_options& o);
+
+/// A clip's frames first..last and their symmetry features.
+struct motion_range {
+    clip_t clip;                 ///< frames first..last of the file
+    std::size_t first = 0;       ///< the file's number of the range's frame 0
+    anima::signed_axis up;       ///< guessed or --up
+    Eigen::MatrixXd features;    ///< anima::frame_features of `clip`, one row per frame
+    int decimals = 0;            ///< bvh_value_decimals of the file
+};
+
+/// Reads a BVH file and cuts out the range. Throws failure for a range
+/// outside the clip, CLI::ValidationError for --first after --last. Warns on
+/// stderr when the up axis is a guess without evidence, and when the range
+/// starts at the skeleton's rest pose (every joint that moves within 10
+/// degrees of its rest orientation: the T-pose some exporters put before the
+/// motion), suggesting the --first where the motion has settled.
+motion_range load_motion_range(const std::string& path, const frame_range_options& o);
+
+/// The metric and Eq 3 options.
+struct symmetry_options {
+    std::string metric = "mahalanobis";
+    int window = 10, smoothness = 0, candidate_window = 0, min_pairs = 0;
+};
+
+/// Adds --metric, --window, --smoothness, --candidate-window and
+/// --min-pairs; returns the options added, in that order.
+std::vector<CLI::Option*> add_symmetry_options(CLI::App& sub, symmetry_options& o);
+
+/// The library parameters for these options. Throws CLI::ValidationError for
+/// a --smoothness outside [0, (window + 1) / 2] or a --min-pairs above
+/// --window.
+anima::symmetry_params<double> make_symmetry_params(const symmetry_options& o);
+
+/// The pairs a frame needs to be a candidate in a clip of `frames` frames
+/// (symmetry_params::min_pairs with its 0 = radius default, capped at the
+/// most pairs a frame of the clip has, at least 1).
+int candidate_min_pairs(const anima::symmetry_params<double>& p, std::size_t frames);
 
 }  // namespace anima_cli

@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
     register_convert(app);
     register_render(app);
     register_transition(app);
+    register_symmetry(app);
+    register_playback(app);
+    register_maxflow(app);
     // Keep after the last register_*: subcommands created later would copy it
     // into their own --help.
     app.footer("Run 'anima SUBCOMMAND --help' for the options of a subcommand.");

@@ -97,6 +97,7 @@ std::vector<std::size_t> reference_candidates(const vector<T>& score, const std:
     for (int i = 0; i < n; ++i) {
         const auto eligible = [&](int k) { return pairs[static_cast<std::size_t>(k)] >= min_pairs; };
         if (!eligible(i) || !(s[i] > T(0))) continue;
+        if ((i > 0 && s[i - 1] > s[i]) || (i + 1 < n && s[i + 1] > s[i])) continue;  // on a slope
         // i must be the first largest score among the eligible frames in the window.
         int first_best = -1;
         for (int k = std::max(0, i - window); k <= std::min(n - 1, i + window); ++k)
@@ -480,6 +481,18 @@ TEST_CASE_TEMPLATE("Eq 5: turning_candidates keeps first maxima of plateaus and 
     CHECK(contains(invalid_argument_message([&] { anima::turning_candidates(s, std::vector<int>(3, 1), 1); }), "pair counts"));
     CHECK(contains(invalid_argument_message([&] { anima::turning_candidates(s, pairs, 0); }), "window"));
     CHECK(contains(invalid_argument_message([&] { anima::turning_candidates(s, pairs, 1, 0); }), "min_pairs"));
+    // The first eligible frame on a falling slope is no candidate, although
+    // every eligible frame of its window scores lower.
+    {
+        vector<T> slope(9);
+        slope << T(0), T(0.7), T(0.9), T(0.8), T(0.7), T(0.6), T(0.5), T(0.4), T(0);
+        const std::vector<int> slope_pairs{0, 1, 2, 3, 4, 4, 3, 2, 1};
+        CHECK(anima::turning_candidates(slope, slope_pairs, 3, 3).empty());
+        CHECK(reference_candidates(slope, slope_pairs, 3, 3).empty());
+        std::vector<std::size_t> loose;
+        for (const auto& x : anima::turning_candidates(slope, slope_pairs, 3, 1)) loose.push_back(x.frame);
+        CHECK(loose == std::vector<std::size_t>{2});
+    }
     // Frames judged on fewer than min_pairs pairs drop out: 2 and 9 (3 and 2
     // pairs) go, 7 stays.
     frames.clear();

@@ -122,7 +122,8 @@ std::vector<T> binomial_weights(int radius, int smoothness) {
 
 /// Eq 5: frames whose score is the largest within +-window (the first
 /// frame of a plateau) among the frames compared on at least min_pairs
-/// pairs (>= 1), zero scores excluded, sorted by score, highest first.
+/// pairs (>= 1) and not below either immediate neighbour, zero scores
+/// excluded, sorted by score, highest first.
 template <class T>
 std::vector<turning_candidate<T>> turning_candidates(const Eigen::Matrix<T, Eigen::Dynamic, 1>& score,
                                                      const std::vector<int>& pairs, int window, int min_pairs = 1) {
@@ -136,9 +137,12 @@ std::vector<turning_candidate<T>> turning_candidates(const Eigen::Matrix<T, Eige
     const Eigen::Index n = score.size();
     for (Eigen::Index i = 0; i < n; ++i) {
         if (pairs[static_cast<std::size_t>(i)] < min_pairs || !(score[i] > T(0))) continue;
+        // On a slope whatever the window says: a frame at the edge of the
+        // eligible range must not win only because its neighbour is ineligible.
+        if ((i > 0 && score[i - 1] > score[i]) || (i + 1 < n && score[i + 1] > score[i])) continue;
         bool best = true;
-        // Frames with too few pairs neither turn nor suppress a neighbour:
-        // their scores are not comparable.
+        // Frames with too few pairs neither turn nor suppress a candidate
+        // further away: their scores are not comparable.
         for (Eigen::Index k = std::max<Eigen::Index>(0, i - window); best && k <= std::min(n - 1, i + window); ++k)
             if (pairs[static_cast<std::size_t>(k)] >= min_pairs) best = k < i ? score[k] < score[i] : score[k] <= score[i];
         if (best) out.push_back({static_cast<std::size_t>(i), score[i], score[i] / T(2)});

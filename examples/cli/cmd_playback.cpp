@@ -1,0 +1,187 @@
+// anima playback IN.bvh --frames N: a new motion of N frames that plays the
+// clip forwards and backwards, reversing at its turning candidates (adaptive
+// probabilities of Eq 6, or fixed ones), or, for comparison, jumping between
+// similar frames like a video texture.
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace anima_cli {
+namespace {
+
+struct playback_options {
+    std::string input, output, root = "accumulated";
+    frame_range_options range;
+    symmetry_options symmetry;
+    std::size_t frames = 0, start = 0;
+    std::uint64_t seed = 1;
+    double gain = 1.25, penalty = 0.2;
+    bool fixed = false, video_texture = false, json = false;
+    CLI::Option* start_opt = nullptr;
+};
+
+/// "12, 80, 151, ... (85 in all)": the first few of a list of positions.
+std::string some_positions(const std::vector<std::size_t>& positions, std::size_t shown = 8) {
+    std::vector<std::string> items;
+    for (std::size_t k = 0; k < std::min(shown, positions.size()); ++k) items.push_back(std::to_string(positions[k]));
+    std::string out = join(items);
+    if (positions.size() > shown) out += ", ... (" + std::to_string(positions.size()) + " in all)";
+    return out;
+}
+
+void run_playback(const playback_options& o) {
+    const anima::symmetry_params<double> params = make_symmetry_params(o.symmetry);
+    const motion_range m = load_motion_range(o.input, o.range);
+    const std::size_t n = m.clip.frames();
+    const std::size_t last = m.first + n - 1;
+    const double dt = m.clip.frame_time();
+    const bool start_given = o.start_opt->count() > 0;
+    if (start_given && (o.start < m.first || o.start > last))
+        throw failure("--start " + std::to_string(o.start) + " is outside the frames used (" + std::to_string(m.first) +
+                      ".." + std::to_string(last) + ")");
+    const std::size_t start = start_given ? o.start - m.first : 0;
+
+    const std::string mode = o.video_texture ? "video_texture" : o.fixed ? "fixed" : "adaptive";
+    json out = {{"input", o.input}, {"mode", mode}, {"seed", o.seed}, {"root", o.root},
+                {"first", m.first}, {"last", last}, {"frames", o.frames}, {"frame_time", dt}};
+    std::vector<std::size_t> stream;
+    std::string summary;  // the text lines about turns or jumps
+    if (o.video_texture) {
+        const auto table = anima::video_texture_jumps(m.features, dt);
+        anima::video_texture_playback<double> playback(table, o.seed, start);
+        stream = playback.take(o.frames);
+        out["metric"] = "l2";
+        out["sigma"] = table.sigma;
+        out["jumps"] = playback.jumps();
+        summary = std::to_string(playback.jumps().size()) + " jumps" +
+                  (playback.jumps().empty() ? "" : " (after output frames " + some_positions(playback.jumps()) + ")");
+    } else {
+        const auto r = anima::symmetry_scores(m.features, dt, params);
+        if (r.candidates.size() < 2)
+            throw failure("'" + o.input + "' (frames " + std::to_string(m.first) + ".." + std::to_string(last) + ") has " +
+                          std::to_string(r.candidates.size()) + " turning candidate" +
+                          (r.candidates.size() == 1 ? "" : "s") + " with --window " + std::to_string(params.radius) +
+                          "; playback needs two: try a smaller --window, --candidate-window or --min-pairs, or "
+                          "more frames");
+        anima::playback_params<double> pp;
+        pp.adaptive = !o.fixed;
+        pp.gain = o.gain;
+        pp.turn_penalty = o.penalty;
+        pp.seed = o.seed;
+        pp.start_frame = start;
+        anima::symmetric_playback<double> playback(n, r.candidates, pp);
+        stream = playback.take(o.frames);
+        json candidates = json::array();
+        for (const auto& c : r.candidates)
+            candidates.push_back({{"frame", m.first + c.frame},
+                                  {"probability", c.probability},
+                                  {"final_probability", playback.probability(c.frame)}});
+        out["metric"] = o.symmetry.metric;
+        out["window"] = params.radius;
+        out["smoothness"] = params.smoothness;
+        out["candidate_window"] = params.candidate_radius ? params.candidate_radius : params.radius;
+        out["min_pairs"] = candidate_min_pairs(params, n);
+        if (!o.fixed) {
+            out["gain"] = o.gain;
+            out["penalty"] = o.penalty;
+        }
+        out["candidates"] = candidates;
+        out["span"] = {m.first + playback.first_turning_frame(), m.first + playback.last_turning_frame()};
+        out["turns"] = playback.turns();
+        summary = std::to_string(r.candidates.size()) + " turning candidates (playback stays within frames " +
+                  std::to_string(m.first + playback.first_turning_frame()) + ".." +
+                  std::to_string(m.first + playback.last_turning_frame()) + "), " +
+                  std::to_string(playback.turns().size()) + " turns" +
+                  (playback.turns().empty() ? "" : " (at output frames " + some_positions(playback.turns()) + ")");
+    }
+
+    const auto cov = anima::coverage<double>(stream, n);
+    std::vector<bool> seen(n, false);
+    for (const std::size_t f : stream) seen[f] = true;
+    const auto distinct = static_cast<std::size_t>(std::count(seen.begin(), seen.end(), true));
+    out["start"] = m.first + stream.front();
+    out["coverage"] = {{"distinct", distinct}, {"fraction", cov.visited}, {"evenness", cov.evenness}};
+
+    anima::bvh_write_options write;
+    write.decimals = std::max(6, m.decimals);
+    if (!o.output.empty()) {
+        anima::resequence_params rp;
+        rp.root = anima::parse_root_path(o.root);
+        rp.up = m.up;
+        const clip_t result = anima::resequence(m.clip, stream, rp);
+        write_text_file(o.output, anima::format_bvh(result, write));
+        out["output"] = o.output;
+        out["decimals"] = write.decimals;
+    }
+
+    if (o.json) {
+        print_json(out);
+        return;
+    }
+    const std::string how = o.video_texture ? "video-texture playback (L2 jumps)"
+                                            : mode + " symmetric playback (" + o.symmetry.metric + ", window " +
+                                                  std::to_string(params.radius) + ", smoothness " +
+                                                  std::to_string(params.smoothness) + ")";
+    std::cout << how << " of " << file_name(o.input) << " frames " << m.first << ".." << last << ", seed " << o.seed
+              << ": " << o.frames << " frames from frame " << m.first + stream.front() << "\n"
+              << summary << "\ncoverage: " << distinct << " of " << n << " source frames shown ("
+              << format_fixed(100 * cov.visited, 1) << "%), evenness " << format_fixed(cov.evenness, 3) << "\n";
+    if (!o.output.empty())
+        std::cout << "wrote " << o.output << ": " << o.frames << " frames, root path " << o.root << ", "
+                  << write.decimals << " decimals\n";
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_playback(CLI::App& app) {
+    using namespace anima_cli;
+    auto opts = std::make_shared<playback_options>();
+    CLI::App* sub = app.add_subcommand(
+        "playback", "Play a clip forwards and backwards, turning at its symmetric frames, into a motion of any length");
+    sub->add_option("IN", opts->input, "BVH file to play")->required()->type_name("PATH");
+    sub->add_option("--frames", opts->frames, "Length of the new motion in frames")
+        ->required()
+        ->type_name("N")
+        ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}));
+    sub->add_option("-o,--output", opts->output, "Write the new motion to this BVH file")->type_name("OUT.bvh");
+    sub->add_option("--seed", opts->seed, "Seed of the random turns (same seed, same motion)")->capture_default_str();
+    sub->add_option("--root", opts->root,
+                    "The root's ground path: recorded (the source frame's), in_place, accumulated (the source's "
+                    "steps added up) or keep_direction (reversed steps negated)")
+        ->check(CLI::IsMember({"recorded", "in_place", "accumulated", "keep_direction"}))
+        ->capture_default_str();
+    opts->start_opt = sub->add_option("--start", opts->start,
+                                      "Frame to start at (default: the first candidate, or the first frame with "
+                                      "--video-texture)")
+                          ->type_name("FRAME");
+    auto* fixed = sub->add_flag("--fixed", opts->fixed, "Keep every candidate's Eq 5 probability (no adaptation)");
+    auto* gain = sub->add_option("--gain", opts->gain, "k of Eq 6: a passed candidate's probability is multiplied by K")
+                     ->type_name("K")
+                     ->check(CLI::Range(1.0, 1000.0))
+                     ->capture_default_str()
+                     ->excludes(fixed);
+    auto* penalty = sub->add_option("--penalty", opts->penalty, "Subtracted from a candidate's probability when it turns")
+                        ->type_name("P")
+                        ->check(CLI::Range(0.0, 1.0))
+                        ->capture_default_str()
+                        ->excludes(fixed);
+    std::vector<CLI::Option*> symmetric = add_symmetry_options(*sub, opts->symmetry);
+    symmetric.insert(symmetric.end(), {fixed, gain, penalty});
+    auto* video = sub->add_flag("--video-texture", opts->video_texture,
+                                "Jump between similar frames (video textures, L2 distance) instead of turning");
+    for (CLI::Option* option : symmetric) video->excludes(option);
+    add_frame_range_options(*sub, opts->range);
+    sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
+    sub->callback([opts] { run_playback(*opts); });
+}

@@ -1,0 +1,288 @@
+// anima symmetry IN.bvh: where a clip can be played backwards without a
+// visible seam. Prints the turning candidates (Eq 5) with their
+// probabilities; optionally plots the Eq 4 scores (SVG) and draws the full
+// frame distance matrix (PNG, the paper's Fig 2).
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace anima_cli {
+namespace {
+
+struct symmetry_cli_options {
+    std::string input, plot, matrix;
+    frame_range_options range;
+    symmetry_options symmetry;
+    int matrix_size = 0;
+    bool json = false;
+};
+
+// The distance matrix is held in memory as doubles: 8 * frames^2 bytes.
+constexpr std::size_t max_matrix_frames = 8192;
+constexpr int default_matrix_pixels = 1024;
+// Labels on the score plot: at most this many, the highest scores first.
+constexpr std::size_t max_plot_labels = 12;
+
+/// Tick positions 1, 2 or 5 times a power of ten apart, about `count` of
+/// them over [lo, hi].
+std::vector<double> nice_ticks(double lo, double hi, int count) {
+    std::vector<double> out;
+    const double span = hi - lo;
+    if (!(span > 0)) return {lo};
+    const double raw = span / count;
+    const double power = std::pow(10.0, std::floor(std::log10(raw)));
+    double step = power;
+    for (const double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * power >= raw) {
+            step = m * power;
+            break;
+        }
+    for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * span; t += step) out.push_back(t);
+    return out;
+}
+
+std::string describe(const symmetry_cli_options& o, const anima::symmetry_params<double>& p) {
+    return o.symmetry.metric + ", window " + std::to_string(p.radius) + ", smoothness " + std::to_string(p.smoothness);
+}
+
+void write_score_plot(const std::string& path, const std::string& input, const motion_range& m,
+                      const anima::symmetry_result<double>& r, const std::string& settings, int min_pairs) {
+    const double width = 900, height = 380, left = 62, right = 24, top = 58, bottom = 56;
+    const double pw = width - left - right, ph = height - top - bottom;
+    const std::size_t n = m.clip.frames();
+    const double x0 = static_cast<double>(m.first), x1 = static_cast<double>(m.first + (n > 1 ? n - 1 : 1));
+    const auto X = [&](double frame) { return left + (frame - x0) / (x1 - x0) * pw; };
+    const auto Y = [&](double score) { return top + (1 - score) * ph; };
+
+    const std::string range = std::to_string(m.first) + ".." + std::to_string(m.first + n - 1);
+    svg_document svg(width, height, "Symmetry scores of " + file_name(input));
+    svg.rect(0, 0, width, height, "white");
+    svg.text(left, 22, "Symmetry of " + file_name(input) + ", frames " + range + " (" + settings + ")", 14, "#222",
+             "start", true);
+    svg.text(left, 40,
+             "Eq 4 score per frame (1 = the frames around it mirror each other best); dots: the " +
+                 std::to_string(r.candidates.size()) + " turning candidates (Eq 5)" +
+                 (r.candidates.size() > max_plot_labels ? ", the " + std::to_string(max_plot_labels) + " highest labelled"
+                                                        : ""),
+             11, "#555");
+
+    // Frames compared on too few pairs to be candidates (near the ends).
+    bool shaded = false;
+    for (std::size_t k = 0; k < n;) {
+        if (r.pairs[k] >= min_pairs) {
+            ++k;
+            continue;
+        }
+        std::size_t end = k;
+        while (end + 1 < n && r.pairs[end + 1] < min_pairs) ++end;
+        const double a = std::max(left, X(static_cast<double>(m.first + k) - 0.5));
+        const double b = std::min(left + pw, X(static_cast<double>(m.first + end) + 0.5));
+        svg.rect(a, top, b - a, ph, "#eeeeee");
+        shaded = true;
+        k = end + 1;
+    }
+    if (shaded)
+        svg.text(left + pw, height - 12, "grey: fewer than " + std::to_string(min_pairs) + " pairs, never candidates", 11,
+                 "#555", "end");
+
+    // Grid and axes.
+    for (const double s : nice_ticks(0, 1, 5)) {
+        svg.line(left, Y(s), left + pw, Y(s), "#e4e4e4", 1);
+        svg.text(left - 6, Y(s) + 4, format_number(s, 3), 11, "#444", "end");
+    }
+    for (const double f : nice_ticks(x0, x1, 10)) {
+        svg.line(X(f), top + ph, X(f), top + ph + 5, "#444", 1);
+        svg.text(X(f), top + ph + 18, format_number(f, 10), 11, "#444", "middle");
+    }
+    svg.line(left, top, left, top + ph, "#444", 1);
+    svg.line(left, top + ph, left + pw, top + ph, "#444", 1);
+    svg.text(left + pw / 2, height - 12,
+             "frame (" + format_number(m.clip.frame_rate(), 4) + " frames per second, as the file says)", 12, "#222",
+             "middle");
+    svg.raw("<text x=\"16\" y=\"" + svg_number(top + ph / 2) + "\" font-size=\"12\" fill=\"#222\" text-anchor=\"middle\" "
+            "transform=\"rotate(-90 16 " + svg_number(top + ph / 2) + ")\">symmetry score</text>");
+
+    // The curve, over the frames that have pairs (not the first and last).
+    std::string points;
+    for (std::size_t k = 0; k < n; ++k) {
+        if (r.pairs[k] == 0) continue;
+        if (!points.empty()) points += ' ';
+        points += svg_number(X(static_cast<double>(m.first + k))) + "," + svg_number(Y(r.score[static_cast<Eigen::Index>(k)]));
+    }
+    svg.raw("<polyline fill=\"none\" stroke=\"#1f63c6\" stroke-width=\"1.4\" stroke-linejoin=\"round\" points=\"" + points +
+            "\"/>");
+
+    // Candidates: every one a dot; labels for the highest that do not
+    // collide with a label already placed (candidates are sorted by score).
+    std::vector<double> labelled;
+    for (const auto& c : r.candidates) {
+        const double x = X(static_cast<double>(m.first + c.frame)), y = Y(c.score);
+        svg.circle(x, y, 3.2, "#d0342c");
+        if (labelled.size() >= max_plot_labels) continue;
+        const bool clear = std::none_of(labelled.begin(), labelled.end(), [x](double lx) { return std::abs(lx - x) < 28; });
+        if (!clear) continue;
+        labelled.push_back(x);
+        // Near the plot's sides the label leans inwards, clear of the axis.
+        const char* anchor = x < left + 10 ? "start" : x > left + pw - 10 ? "end" : "middle";
+        svg.text(x, y - 7, std::to_string(m.first + c.frame), 10, "#a0231c", anchor);
+    }
+    write_text_file(path, svg.str());
+}
+
+struct matrix_image {
+    int size = 0;
+    double white = 0;  // the distance drawn white (and everything above it)
+};
+
+matrix_image write_distance_matrix(const std::string& path, const motion_range& m,
+                                   const anima::symmetry_params<double>& params, int requested_size) {
+    const std::size_t n = m.clip.frames();
+    const auto distance = anima::make_frame_distance(m.features, m.clip.frame_time(), params.distance);
+    Eigen::MatrixXd d = anima::distance_matrix(m.features, distance);
+    // Eq 2 is a squared distance: its root is on the scale of a length, like Eq 1.
+    if (params.distance.metric == anima::frame_metric::mahalanobis) d = d.cwiseSqrt();
+
+    matrix_image out;
+    out.size = requested_size > 0 ? requested_size : static_cast<int>(std::min<std::size_t>(n, default_matrix_pixels));
+    const auto s = static_cast<std::size_t>(out.size);
+    // Pixel p covers frames [p n / s, (p + 1) n / s), at least one frame:
+    // block means when shrinking, repeated frames when enlarging.
+    std::vector<std::size_t> begin(s), end(s);
+    for (std::size_t p = 0; p < s; ++p) {
+        begin[p] = p * n / s;
+        end[p] = std::max(begin[p] + 1, (p + 1) * n / s);
+    }
+    std::vector<double> value(s * s);
+    for (std::size_t py = 0; py < s; ++py)
+        for (std::size_t px = 0; px < s; ++px) {
+            const auto rows = static_cast<Eigen::Index>(end[py] - begin[py]), cols = static_cast<Eigen::Index>(end[px] - begin[px]);
+            value[py * s + px] =
+                d.block(static_cast<Eigen::Index>(begin[py]), static_cast<Eigen::Index>(begin[px]), rows, cols).mean();
+        }
+    // Black = identical frames, white = the 99th percentile of the pixels and
+    // above: a few extreme frames should not leave everything else black.
+    std::vector<double> sorted = value;
+    const auto q = sorted.begin() + static_cast<std::ptrdiff_t>((sorted.size() - 1) * 99 / 100);
+    std::nth_element(sorted.begin(), q, sorted.end());
+    out.white = *q;
+    std::vector<unsigned char> pixels(value.size());
+    for (std::size_t k = 0; k < value.size(); ++k) {
+        const double g = out.white > 0 ? std::min(1.0, value[k] / out.white) : 0.0;
+        pixels[k] = static_cast<unsigned char>(std::lround(255 * g));
+    }
+    write_png(path, out.size, out.size, 1, pixels, "--matrix");
+    return out;
+}
+
+void run_symmetry(const symmetry_cli_options& o) {
+    const anima::symmetry_params<double> params = make_symmetry_params(o.symmetry);
+    if (!o.matrix.empty()) require_png("--matrix");
+    const motion_range m = load_motion_range(o.input, o.range);
+    const std::size_t n = m.clip.frames();
+    if (!o.matrix.empty() && n > max_matrix_frames)
+        throw failure("--matrix: " + std::to_string(n) + " frames are too many for the full distance matrix (at most " +
+                      std::to_string(max_matrix_frames) + "); choose a range with --first and --last");
+    const anima::symmetry_result<double> r = anima::symmetry_scores(m.features, m.clip.frame_time(), params);
+    if (!r.score.allFinite()) throw failure("'" + o.input + "': the symmetry scores are not finite");
+    const int candidate_window = params.candidate_radius ? params.candidate_radius : params.radius;
+    const int min_pairs = candidate_min_pairs(params, n);
+    const std::string settings = describe(o, params);
+    const double dt = m.clip.frame_time();
+
+    if (!o.plot.empty()) write_score_plot(o.plot, o.input, m, r, settings, min_pairs);
+    matrix_image image;
+    if (!o.matrix.empty()) image = write_distance_matrix(o.matrix, m, params, o.matrix_size);
+
+    if (o.json) {
+        json candidates = json::array();
+        for (const auto& c : r.candidates)
+            candidates.push_back({{"frame", m.first + c.frame},
+                                  {"time", static_cast<double>(m.first + c.frame) * dt},
+                                  {"score", c.score},
+                                  {"probability", c.probability},
+                                  {"pairs", r.pairs[c.frame]}});
+        json scores = json::array();
+        for (Eigen::Index k = 0; k < r.score.size(); ++k) scores.push_back(r.score[k]);
+        json out = {{"file", o.input},
+                    {"first", m.first},
+                    {"last", m.first + n - 1},
+                    {"frames", n},
+                    {"frame_time", dt},
+                    {"up_axis", anima::to_string(m.up)},
+                    {"metric", o.symmetry.metric},
+                    {"window", params.radius},
+                    {"smoothness", params.smoothness},
+                    {"candidate_window", candidate_window},
+                    {"min_pairs", min_pairs},
+                    {"candidates", candidates},
+                    {"scores", scores}};
+        if (!o.plot.empty()) out["plot"] = o.plot;
+        if (!o.matrix.empty())
+            out["matrix"] = {{"file", o.matrix}, {"pixels", image.size}, {"white_distance", image.white}};
+        print_json(out);
+        return;
+    }
+
+    std::cout << o.input << ": frames " << m.first << ".." << m.first + n - 1 << " (" << n << " at "
+              << format_number(m.clip.frame_rate(), 6) << " fps), " << settings << "\n";
+    if (r.candidates.empty()) {
+        std::cout << "no turning candidates: no frame compared on at least " << min_pairs << " pair"
+                  << (min_pairs == 1 ? "" : "s") << " has the highest score within +-" << candidate_window
+                  << " frames\n";
+    } else {
+        std::cout << r.candidates.size() << " turning candidate" << (r.candidates.size() == 1 ? "" : "s")
+                  << " (the highest score within +-" << candidate_window << " frames, on at least " << min_pairs
+                  << " pair" << (min_pairs == 1 ? "" : "s") << "), highest first:\n";
+        std::cout << "   frame   time(s)   score   probability   pairs\n";
+        const auto right = [](std::string text, std::size_t width) {
+            return std::string(width > text.size() ? width - text.size() : 0, ' ') + text;
+        };
+        for (const auto& c : r.candidates)
+            std::cout << right(std::to_string(m.first + c.frame), 8)
+                      << right(format_fixed(static_cast<double>(m.first + c.frame) * dt, 3), 10)
+                      << right(format_fixed(c.score, 3), 8) << right(format_fixed(c.probability, 3), 14)
+                      << right(std::to_string(r.pairs[c.frame]), 8) << '\n';
+        if (std::any_of(r.candidates.begin(), r.candidates.end(),
+                        [&](const auto& c) { return r.pairs[c.frame] < params.radius; }))
+            std::cout << "(pairs: the frame pairs i-r, i+r inside the range; fewer than " << params.radius
+                      << " near its ends, where the score rests on fewer comparisons)\n";
+    }
+    if (!o.plot.empty()) std::cout << "wrote " << o.plot << ": the score curve with the candidates marked\n";
+    if (!o.matrix.empty())
+        std::cout << "wrote " << o.matrix << ": the " << n << "x" << n << " distance matrix as " << image.size << "x"
+                  << image.size << " px (black: identical frames, white: distance " << format_number(image.white, 4)
+                  << " and above)\n";
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_symmetry(CLI::App& app) {
+    using namespace anima_cli;
+    auto opts = std::make_shared<symmetry_cli_options>();
+    CLI::App* sub = app.add_subcommand(
+        "symmetry", "Find the frames where a clip can be played backwards without a seam (turning candidates)");
+    sub->add_option("IN", opts->input, "BVH file to analyse")->required()->type_name("PATH");
+    add_symmetry_options(*sub, opts->symmetry);
+    add_frame_range_options(*sub, opts->range);
+    sub->add_option("--plot", opts->plot, "Draw the score curve with the candidates marked into this SVG file")
+        ->type_name("OUT.svg");
+    auto* matrix = sub->add_option("--matrix", opts->matrix, "Draw the frames x frames distance matrix into this PNG file")
+                       ->type_name("OUT.png");
+    sub->add_option("--matrix-size", opts->matrix_size,
+                    "Width and height of the --matrix image in pixels (default: one per frame, at most 1024)")
+        ->type_name("PX")
+        ->check(CLI::Range(1, 8192))
+        ->needs(matrix);
+    sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
+    sub->callback([opts] { run_symmetry(*opts); });
+}
