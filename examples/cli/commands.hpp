@@ -18,4 +18,7 @@ void register_render(CLI::App& app);
 void register_transition(CLI::App& app);
 void register_symmetry(CLI::App& app);
 void register_playback(CLI::App& app);
+void register_poisson(CLI::App& app);
+void register_smooth(CLI::App& app);
 void register_maxflow(CLI::App& app);
+void register_texture(CLI::App& app);

@@ -34,7 +34,10 @@ int main(int argc, char** argv) {
     register_transition(app);
     register_symmetry(app);
     register_playback(app);
+    register_poisson(app);
+    register_smooth(app);
     register_maxflow(app);
+    register_texture(app);
     // Keep after the last register_*: subcommands created later would copy it
     // into their own --help.
     app.footer("Run 'anima SUBCOMMAND --help' for the options of a subcommand.");

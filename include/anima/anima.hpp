@@ -9,6 +9,8 @@
 #include <anima/core/version.hpp>
 #include <anima/maxflow.hpp>
 #include <anima/motion.hpp>
+#include <anima/poisson.hpp>
 #include <anima/rotation.hpp>
 #include <anima/symmetry.hpp>
+#include <anima/texture.hpp>
 #include <anima/transition.hpp>

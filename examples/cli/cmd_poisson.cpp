@@ -1,0 +1,261 @@
+// anima poisson --grid WxH --rhs random|FILE.csv: solves the 5-point Poisson
+// equation nabla^2 u = f on a W x H grid of unknowns (unit spacing, zero
+// Dirichlet values around, or zero flux with --neumann) with multigrid, the
+// sine-transform solver or Eigen's conjugate gradient, and reports time,
+// iterations and the relative residual: a quick look at the solvers.
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <anima/poisson.hpp>
+
+#include <CLI/CLI.hpp>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCore>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace anima_cli {
+namespace {
+
+struct poisson_options {
+    std::string grid, rhs = "random", solver = "multigrid", output, cycle = "v";
+    std::uint64_t seed = 1;
+    double tolerance = 1e-8;
+    int pre = 2, post = 2, max_cycles = 100;
+    bool neumann = false, json = false;
+};
+
+struct grid_size {
+    Eigen::Index width = 0, height = 0;
+};
+
+grid_size parse_grid(const std::string& text) {
+    const auto x = text.find_first_of("xX");
+    const auto number = [&](const std::string& s) -> Eigen::Index {
+        if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos) return -1;
+        errno = 0;
+        const long long v = std::strtoll(s.c_str(), nullptr, 10);
+        return errno ? -1 : static_cast<Eigen::Index>(v);
+    };
+    grid_size g;
+    if (x != std::string::npos) {
+        g.width = number(text.substr(0, x));
+        g.height = number(text.substr(x + 1));
+    }
+    if (g.width <= 0 || g.height <= 0 || g.width > 100000 || g.height > 100000)
+        throw CLI::ValidationError("--grid", "'" + text + "' is not a grid size: use WxH with W, H from 1 to 100000");
+    return g;
+}
+
+// H lines of W numbers separated by commas (or spaces); blank lines are skipped.
+Eigen::MatrixXd read_csv(const std::string& path, const grid_size& g) {
+    const std::string text = read_text_file(path);
+    Eigen::MatrixXd f(g.height, g.width);
+    std::istringstream in(text);
+    std::string line;
+    Eigen::Index row = 0;
+    std::size_t line_number = 0;
+    while (std::getline(in, line)) {
+        ++line_number;
+        for (char& c : line)
+            if (c == ',' || c == ';' || c == '\t' || c == '\r') c = ' ';
+        if (line.find_first_not_of(' ') == std::string::npos) continue;
+        if (row == g.height)
+            throw anima::parse_error(path, line_number, "more than the " + std::to_string(g.height) + " rows of the grid");
+        std::istringstream fields(line);
+        std::string field;
+        Eigen::Index col = 0;
+        while (fields >> field) {
+            if (col == g.width)
+                throw anima::parse_error(path, line_number, "more than " + std::to_string(g.width) + " numbers");
+            char* end = nullptr;
+            const double v = std::strtod(field.c_str(), &end);
+            if (end == field.c_str() || *end != '\0')
+                throw anima::parse_error(path, line_number, "'" + field + "' is not a number");
+            f(row, col++) = v;  // NaN and infinities are left for the solver to reject
+        }
+        if (col != g.width)
+            throw anima::parse_error(path, line_number,
+                                     std::to_string(col) + " numbers, expected " + std::to_string(g.width));
+        ++row;
+    }
+    if (row != g.height)
+        throw anima::parse_error(path, line_number,
+                                 "the file has " + std::to_string(row) + " rows, the grid " + std::to_string(g.height));
+    return f;
+}
+
+std::string to_csv(const Eigen::MatrixXd& u) {
+    std::string out;
+    char buf[32];
+    for (Eigen::Index i = 0; i < u.rows(); ++i) {
+        for (Eigen::Index j = 0; j < u.cols(); ++j) {
+            std::snprintf(buf, sizeof buf, "%.17g", u(i, j));
+            if (j) out += ',';
+            out += buf;
+        }
+        out += '\n';
+    }
+    return out;
+}
+
+double since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+void run_poisson(const poisson_options& o) {
+    const grid_size size = parse_grid(o.grid);
+    const anima::boundary sides = o.neumann ? anima::boundary::neumann : anima::boundary::dirichlet;
+    Eigen::MatrixXd f;
+    if (o.rhs == "random") {
+        anima::random_source rng(o.seed);
+        f.resize(size.height, size.width);
+        for (Eigen::Index j = 0; j < size.width; ++j)
+            for (Eigen::Index i = 0; i < size.height; ++i) f(i, j) = 2 * rng.uniform() - 1;
+    } else {
+        f = read_csv(o.rhs, size);
+    }
+    const auto problem = anima::make_poisson_problem(anima::make_poisson_grid<double>(size.height, size.width, sides), f);
+
+    json out = {{"grid", {{"width", size.width}, {"height", size.height}}},
+                {"unknowns", size.width * size.height},
+                {"boundary", anima::to_string(sides)},
+                {"rhs", o.rhs},
+                {"solver", o.solver},
+                {"tolerance", o.tolerance}};
+    anima::poisson_result<double> r;
+    double setup = 0, solve = 0;
+    const auto start = std::chrono::steady_clock::now();
+    if (o.solver == "multigrid") {
+        anima::multigrid_poisson<double>::params prm;
+        prm.tolerance = o.tolerance;
+        prm.cycle = anima::parse_multigrid_cycle(o.cycle);
+        prm.pre_sweeps = o.pre;
+        prm.post_sweeps = o.post;
+        prm.max_cycles = o.max_cycles;
+        anima::multigrid_poisson<double> mg(problem.grid, prm);
+        setup = since(start);
+        const auto t = std::chrono::steady_clock::now();
+        r = mg.solve(problem);
+        solve = since(t);
+        json levels = json::array();
+        for (std::size_t l = 0; l < mg.levels(); ++l)
+            levels.push_back({{"width", mg.level_size(l).second}, {"height", mg.level_size(l).first}});
+        out["cycle"] = o.cycle;
+        out["pre_sweeps"] = o.pre;
+        out["post_sweeps"] = o.post;
+        out["levels"] = levels;
+    } else if (o.solver == "dst") {
+        const anima::dst_poisson<double> fast(problem.grid);
+        setup = since(start);
+        const auto t = std::chrono::steady_clock::now();
+        r = fast.solve(problem);
+        solve = since(t);
+    } else {
+        // Eigen's conjugate gradient on the assembled system, as a reference.
+        const auto sys = anima::assemble_poisson_system(problem);
+        Eigen::VectorXd x;
+        Eigen::Index iterations = 0;
+        const auto run = [&](auto& cg) {
+            cg.setTolerance(o.tolerance);
+            cg.compute(sys.A);
+            setup = since(start);
+            const auto t = std::chrono::steady_clock::now();
+            x = cg.solve(sys.b);
+            solve = since(t);
+            iterations = cg.iterations();
+        };
+        if (o.solver == "cg-ic") {
+            Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                                     Eigen::IncompleteCholesky<double>>
+                cg;
+            run(cg);
+        } else {
+            Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+            run(cg);
+        }
+        r.u = anima::expand_solution(problem, sys, x);
+        if (problem.grid.singular()) r.u.array() -= r.u.mean();
+        r.iterations = static_cast<int>(iterations);
+        r.removed_mean = sys.removed_mean;
+        r.relative_residual = anima::relative_residual(problem, r.u);
+        r.converged = r.relative_residual <= o.tolerance;
+    }
+    const double seconds = setup + solve;
+    out["seconds"] = seconds;
+    out["setup_seconds"] = setup;
+    out["solve_seconds"] = solve;
+    out["ns_per_unknown"] = seconds * 1e9 / static_cast<double>(size.width * size.height);
+    out["iterations"] = r.iterations;
+    out["relative_residual"] = r.relative_residual;
+    out["converged"] = r.converged;
+    if (o.neumann) out["removed_mean"] = r.removed_mean;
+    if (!r.residual_history.empty()) out["residual_history"] = r.residual_history;
+    if (!o.output.empty()) {
+        write_text_file(o.output, to_csv(r.u));
+        out["output"] = o.output;
+    }
+    if (!r.converged)
+        std::cerr << "anima: warning: " << o.solver << " stopped at relative residual "
+                  << format_number(r.relative_residual, 3) << ", above the tolerance " << format_number(o.tolerance)
+                  << "\n";
+    if (o.json) {
+        print_json(out);
+        return;
+    }
+    std::cout << o.solver << " on a " << size.width << " x " << size.height << " grid ("
+              << size.width * size.height << " unknowns, " << anima::to_string(sides) << "): ";
+    if (o.solver == "dst") std::cout << "direct";
+    else std::cout << r.iterations << (o.solver == "multigrid" ? " cycle" : " iteration") << (r.iterations == 1 ? "" : "s");
+    std::cout << ", relative residual " << format_number(r.relative_residual, 3) << ", " << format_fixed(seconds, 4)
+              << " s (setup " << format_fixed(setup, 4) << " s, " << format_number(out["ns_per_unknown"].get<double>(), 3)
+              << " ns per unknown)\n";
+    if (o.neumann && r.removed_mean != 0)
+        std::cout << "pure Neumann: removed the mean " << format_number(r.removed_mean) << " of f; u has zero mean\n";
+    if (!o.output.empty()) std::cout << "wrote " << o.output << " (" << size.height << " rows of " << size.width << ")\n";
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_poisson(CLI::App& app) {
+    using namespace anima_cli;
+    auto opts = std::make_shared<poisson_options>();
+    CLI::App* sub = app.add_subcommand(
+        "poisson", "Solve the 5-point Poisson equation on a grid with multigrid, the sine transform or CG, and time it");
+    sub->add_option("--grid", opts->grid, "W x H unknowns (unit spacing), e.g. 513x257")->required()->type_name("WxH");
+    sub->add_option("--rhs", opts->rhs, "Right-hand side f: 'random' (uniform in [-1, 1]) or a CSV file of H rows of W numbers")
+        ->type_name("random|FILE.csv")
+        ->capture_default_str();
+    sub->add_option("--seed", opts->seed, "Seed of the random right-hand side")->capture_default_str();
+    sub->add_option("--solver", opts->solver, "multigrid, dst (sine/cosine transform), cg or cg-ic (Eigen's CG, with IncompleteCholesky)")
+        ->check(CLI::IsMember({"multigrid", "dst", "cg", "cg-ic"}))
+        ->capture_default_str();
+    sub->add_flag("--neumann", opts->neumann, "Zero flux on every side instead of zero Dirichlet values");
+    sub->add_option("--tolerance", opts->tolerance, "Stop at this relative residual ||b - Ax|| / ||b|| (multigrid, cg)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    sub->add_option("--cycle", opts->cycle, "Multigrid cycle: v or w")
+        ->check(CLI::IsMember({"v", "w"}))
+        ->capture_default_str();
+    sub->add_option("--pre", opts->pre, "Multigrid smoothing sweeps before the coarse correction")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    sub->add_option("--post", opts->post, "Multigrid smoothing sweeps after it")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    sub->add_option("--max-cycles", opts->max_cycles, "Most multigrid cycles")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    sub->add_option("--out", opts->output, "Write u as CSV, H rows of W numbers")->type_name("U.csv");
+    sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
+    sub->callback([opts] { run_poisson(*opts); });
+}

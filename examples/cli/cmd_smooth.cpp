@@ -1,0 +1,165 @@
+// anima smooth IN.bvh --seams F1,F2,... -o OUT.bvh: Poisson smoothing of a
+// stitched clip (Eq 14). The jump at each seam (a frame where a new piece
+// starts) is replaced by the trend of the neighbouring frame differences and
+// the clip is rebuilt from those differences with its first and last frames
+// fixed, per DOF along time (1d) or as the frames x DOF image (2d).
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <anima/poisson.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace anima_cli {
+namespace {
+
+struct smooth_options {
+    std::string input, output, mode = "1d", solver = "multigrid", dof_sides = "neumann";
+    std::vector<std::size_t> seams;
+    std::size_t radius = 0;
+    bool json = false;
+};
+
+// The largest jump across a seam beyond the trend of the neighbouring frame
+// differences, over rotation DOFs (degrees) and translation DOFs (units).
+struct jump {
+    double rotation = 0, translation = 0;
+    std::string worst;  // the DOF with the largest rotation jump
+};
+
+jump excess_jump(const Eigen::MatrixXd& m, std::size_t seam, const anima::dof_layout<double>& layout,
+                 const skeleton_t& sk) {
+    const Eigen::MatrixXd target = anima::seam_target_differences(m, {seam});
+    const auto face = static_cast<Eigen::Index>(seam - 1);
+    jump out;
+    for (Eigen::Index d = 0; d < m.cols(); ++d) {
+        const double e = std::abs(m(face + 1, d) - m(face, d) - target(face, d));
+        if (layout.dofs[static_cast<std::size_t>(d)].type == anima::dof::kind::rotation) {
+            const double deg = e * 180 / anima::pi<double>;
+            if (deg > out.rotation) {
+                out.rotation = deg;
+                out.worst = layout.name(sk, static_cast<std::size_t>(d));
+            }
+        } else {
+            out.translation = std::max(out.translation, e);
+        }
+    }
+    return out;
+}
+
+void run_smooth(const smooth_options& o) {
+    const clip_t c = load_clip(o.input);
+    for (std::size_t s : o.seams)
+        if (s < 1 || s + 1 > c.frames())
+            throw failure("--seams: frame " + std::to_string(s) + " is outside 1.." +
+                          std::to_string(c.frames() ? c.frames() - 1 : 0) + " of '" + o.input + "' (" +
+                          std::to_string(c.frames()) + " frames; a seam is the first frame after a jump)");
+    anima::seam_smoothing_params<double> prm;
+    prm.form = anima::parse_seam_smoothing_form(o.mode);
+    prm.solver = anima::parse_poisson_method(o.solver);
+    prm.radius = o.radius;
+    prm.dof_sides = anima::parse_boundary(o.dof_sides);
+    const auto result = anima::smooth_seams(c, o.seams, prm);
+
+    const auto layout = anima::make_dof_layout(c);
+    const Eigen::MatrixXd before = anima::to_dof_matrix(c, layout);
+    const Eigen::MatrixXd after = anima::to_dof_matrix(result.motion, layout);
+    double drift_rot = 0, drift_tr = 0;
+    for (Eigen::Index d = 0; d < before.cols(); ++d) {
+        const double change = (after.col(d) - before.col(d)).cwiseAbs().maxCoeff();
+        if (layout.dofs[static_cast<std::size_t>(d)].type == anima::dof::kind::rotation)
+            drift_rot = std::max(drift_rot, change * 180 / anima::pi<double>);
+        else
+            drift_tr = std::max(drift_tr, change);
+    }
+
+    json seams = json::array();
+    std::vector<std::size_t> sorted = o.seams;
+    std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    for (std::size_t s : sorted) {
+        const jump b = excess_jump(before, s, layout, c.skeleton()), a = excess_jump(after, s, layout, c.skeleton());
+        seams.push_back({{"frame", s},
+                         {"rotation_jump_before", b.rotation},
+                         {"rotation_jump_after", a.rotation},
+                         {"translation_jump_before", b.translation},
+                         {"translation_jump_after", a.translation},
+                         {"worst_dof", b.worst}});
+    }
+    json out = {{"input", o.input},
+                {"frames", c.frames()},
+                {"dofs", layout.size()},
+                {"mode", anima::to_string(prm.form)},
+                {"solver", anima::to_string(prm.solver)},
+                {"radius", o.radius},
+                {"seams", seams},
+                {"largest_change", {{"rotation", drift_rot}, {"translation", drift_tr}}},
+                {"solves", result.stats.solves},
+                {"iterations", result.stats.iterations},
+                {"relative_residual", result.stats.relative_residual},
+                {"converged", result.stats.converged}};
+    if (prm.form == anima::seam_smoothing_form::image) out["dof_sides"] = anima::to_string(prm.dof_sides);
+    if (!o.output.empty()) {
+        write_text_file(o.output, anima::format_bvh(result.motion));
+        out["output"] = o.output;
+    }
+    if (!result.stats.converged)
+        std::cerr << "anima: warning: a Poisson solve stopped at relative residual "
+                  << format_number(result.stats.relative_residual, 3) << " above its tolerance\n";
+    if (o.json) {
+        print_json(out);
+        return;
+    }
+    std::cout << "smoothed " << sorted.size() << " seam" << (sorted.size() == 1 ? "" : "s") << " of "
+              << file_name(o.input) << " (" << c.frames() << " frames, " << layout.size() << " DOFs), "
+              << anima::to_string(prm.form) << " form, " << anima::to_string(prm.solver) << ": "
+              << result.stats.solves << " solve" << (result.stats.solves == 1 ? "" : "s") << ", relative residual <= "
+              << format_number(result.stats.relative_residual, 3) << "\n";
+    std::cout << "  seam   rotation jump (deg)   translation jump   largest before\n";
+    for (const auto& s : seams)
+        std::cout << "  " << s["frame"].get<std::size_t>() << "    " << format_fixed(s["rotation_jump_before"].get<double>(), 3)
+                  << " -> " << format_fixed(s["rotation_jump_after"].get<double>(), 3) << "     "
+                  << format_fixed(s["translation_jump_before"].get<double>(), 3) << " -> "
+                  << format_fixed(s["translation_jump_after"].get<double>(), 3) << "     "
+                  << s["worst_dof"].get<std::string>() << '\n';
+    std::cout << "largest change of any frame: " << format_fixed(drift_rot, 3) << " deg, " << format_fixed(drift_tr, 3)
+              << " units\n";
+    if (!o.output.empty()) std::cout << "wrote " << o.output << '\n';
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_smooth(CLI::App& app) {
+    using namespace anima_cli;
+    auto opts = std::make_shared<smooth_options>();
+    CLI::App* sub = app.add_subcommand(
+        "smooth", "Remove the jumps at the seams of a stitched clip by Poisson smoothing (Eq 14), keeping its detail");
+    sub->add_option("IN", opts->input, "BVH clip")->required();
+    sub->add_option("--seams", opts->seams, "Frames where a new piece starts (the jump is between F-1 and F)")
+        ->required()
+        ->delimiter(',')
+        ->type_name("F1,F2,...");
+    sub->add_option("-o,--output", opts->output, "Write the smoothed clip to this BVH file")->type_name("OUT.bvh");
+    sub->add_option("--mode", opts->mode, "1d: each DOF along time; 2d: the frames x DOF matrix as an image (the paper)")
+        ->check(CLI::IsMember({"1d", "2d"}))
+        ->capture_default_str();
+    sub->add_option("--solver", opts->solver, "multigrid or dst")
+        ->check(CLI::IsMember({"multigrid", "dst"}))
+        ->capture_default_str();
+    sub->add_option("--radius", opts->radius, "Also replace this many frame differences on each side of a seam")
+        ->capture_default_str();
+    sub->add_option("--dof-sides", opts->dof_sides,
+                    "2d mode: beyond the first and last DOF, neumann (free) or dirichlet (the paper's zero padding)")
+        ->check(CLI::IsMember({"neumann", "dirichlet"}))
+        ->capture_default_str();
+    sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
+    sub->callback([opts] { run_smooth(*opts); });
+}

@@ -1,0 +1,409 @@
+// anima texture IN.bvh --frames N -o OUT.bvh: a long motion from a short
+// clip. The clip's last m frames are laid over its first m where they
+// overlap best, every joint switches between them at its own frame (a
+// graph cut), fades over a few frames, and the textons this makes are
+// played end to end and Poisson-smoothed (the graph-cut motion texture).
+// --plot draws the input and the texture as (DOF x frame) images with the
+// seams marked, as the paper's Fig 3 does.
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <anima/texture.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace anima_cli {
+namespace {
+
+struct texture_options {
+    std::string input, output, plot, texton_output;
+    std::size_t frames = 0, m = 100, overlap = 50, blend = 0, first = 0;
+    std::uint64_t seed = 1;
+    std::string capacity = "normalized", metric = "mahalanobis", smoothing = "1d", solver = "multigrid";
+    std::string root = "accumulated", up;
+    double neighbour_weight = 0.5, mix_probability = 0.5;
+    bool json = false, hard_cut = false, symmetric = false, keep_heading = false, progress = false;
+    CLI::Option *m_opt = nullptr, *overlap_opt = nullptr, *first_opt = nullptr, *up_opt = nullptr;
+};
+
+using clock_type = std::chrono::steady_clock;
+
+double seconds_since(clock_type::time_point t) {
+    return std::chrono::duration<double>(clock_type::now() - t).count();
+}
+
+/// The frames the clip's motion starts at when frame 0 is the skeleton's
+/// rest pose (the T-pose some exporters put first) followed by frames that
+/// swing out of it: the first frame whose joint speeds are ordinary again.
+/// 0 when frame 0 is not a rest pose.
+std::size_t rest_pose_lead_in(const clip_t& c) {
+    if (c.frames() < 8) return 0;
+    const double still = anima::radians(1.0), near_rest = anima::radians(10.0);
+    bool moves = false;
+    for (std::size_t j = 0; j < c.joints(); ++j) {
+        bool joint_moves = false;
+        for (std::size_t f = 1; f < c.frames() && !joint_moves; ++f)
+            joint_moves = anima::angle_between(c.rotation(0, j), c.rotation(f, j)) > still;
+        if (!joint_moves) continue;
+        moves = true;
+        if (anima::angle_between(Eigen::Quaterniond::Identity(), c.rotation(0, j)) > near_rest) return 0;
+    }
+    if (!moves) return 0;
+    // Summed joint speed per step; ordinary is within twice the median.
+    std::vector<double> speed(c.frames() - 1, 0.0);
+    for (std::size_t f = 1; f < c.frames(); ++f)
+        for (std::size_t j = 0; j < c.joints(); ++j) speed[f - 1] += anima::angle_between(c.rotation(f - 1, j), c.rotation(f, j));
+    std::vector<double> sorted = speed;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    for (std::size_t f = 1; f < speed.size(); ++f)
+        if (speed[f] < 2 * median) return f;
+    return 1;
+}
+
+/// Viridis-like colour map, t in [0, 1].
+void colour(double t, unsigned char* rgb) {
+    static const double stops[][3] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+    t = std::clamp(t, 0.0, 1.0) * 4;
+    const int i = std::min(3, static_cast<int>(t));
+    const double u = t - i;
+    for (int k = 0; k < 3; ++k) rgb[k] = static_cast<unsigned char>(std::lround(stops[i][k] * (1 - u) + stops[i + 1][k] * u));
+}
+
+/// Output frames where the stream crosses each row's graph-cut seam.
+std::vector<std::vector<std::size_t>> cut_crossings(const anima::motion_texture<double>& t) {
+    std::vector<std::vector<std::size_t>> out(t.texton.rows());
+    for (std::size_t k = 1; k < t.stream.size(); ++k)
+        for (std::size_t r = 0; r < t.texton.rows(); ++r) {
+            const std::size_t s = t.texton.seam_frame(r), p = t.stream[k - 1], q = t.stream[k];
+            if ((p + 1 == s && q == s) || (p == s && q + 1 == s)) out[r].push_back(k);
+        }
+    return out;
+}
+
+/// The input (top) and the texture (bottom) as DOF x frame images, one row
+/// per DOF coloured by its value within the input's range, the root's
+/// ground position left out (the texture's grows without bound), and DOFs
+/// that move less than 2 degrees. A strip
+/// above the input marks M1 (green) and M2 (blue), one above the texture
+/// the passes through the overlap (orange); red pixels are each DOF's
+/// graph-cut seam.
+void write_plot(const std::string& path, const clip_t& input, const anima::motion_texture<double>& t,
+                anima::signed_axis up) {
+    const auto& layout = t.texton.layout;
+    Eigen::MatrixXd a = anima::to_dof_matrix(input, layout), b = anima::to_dof_matrix(t.motion, layout);
+    // DOFs that barely move in the input (uncaptured fingers: rounding
+    // noise) would show noise stretched to full contrast: left out.
+    std::vector<Eigen::Index> shown;
+    for (std::size_t c = 0; c < layout.size(); ++c) {
+        const auto& d = layout.dofs[c];
+        const auto col = static_cast<Eigen::Index>(c);
+        const double range = a.col(col).maxCoeff() - a.col(col).minCoeff();
+        const bool ground = d.joint == 0 && d.type == anima::dof::kind::translation && d.component != static_cast<int>(up.axis);
+        const double least = d.type == anima::dof::kind::rotation ? anima::radians(2.0) : 1e-3 * anima::figure_height(input.skeleton(), up);
+        if (!ground && range > least) shown.push_back(col);
+    }
+    if (shown.empty()) throw failure("--plot: no DOF of the input moves by 2 degrees or more");
+    const std::size_t n_in = input.frames(), n_out = t.motion.frames();
+    const double scale = std::min(1.0, 1200.0 / static_cast<double>(n_out));  // pixels per frame
+    const int width = std::max(1, static_cast<int>(std::lround(static_cast<double>(n_out) * scale)));
+    const int in_width = std::max(1, static_cast<int>(std::lround(static_cast<double>(n_in) * scale)));
+    const int row_h = std::max(1, 240 / static_cast<int>(shown.size()));
+    const int panel = row_h * static_cast<int>(shown.size()), strip = 4, gap = 10;
+    const int height = strip + panel + gap + strip + panel;
+    std::vector<unsigned char> px(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3, 255);
+    const auto put = [&](int x, int y, const unsigned char* rgb) {
+        if (x < 0 || x >= width || y < 0 || y >= height) return;
+        std::copy(rgb, rgb + 3, px.begin() + static_cast<std::ptrdiff_t>((static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3));
+    };
+    std::vector<double> lo(shown.size()), hi(shown.size());
+    for (std::size_t i = 0; i < shown.size(); ++i) {
+        lo[i] = a.col(shown[i]).minCoeff();
+        hi[i] = a.col(shown[i]).maxCoeff();
+    }
+    const auto draw = [&](const Eigen::MatrixXd& m, std::size_t frames, int pixels, int top) {
+        unsigned char rgb[3];
+        for (int x = 0; x < pixels; ++x) {
+            const auto f = static_cast<Eigen::Index>(std::min<std::size_t>(frames - 1, static_cast<std::size_t>(x / scale)));
+            for (std::size_t i = 0; i < shown.size(); ++i) {
+                const double range = hi[i] - lo[i];
+                colour(range > 1e-9 ? (m(f, shown[i]) - lo[i]) / range : 0.5, rgb);
+                for (int y = 0; y < row_h; ++y) put(x, top + static_cast<int>(i) * row_h + y, rgb);
+            }
+        }
+    };
+    draw(a, n_in, in_width, strip);
+    draw(b, n_out, width, strip + panel + gap + strip);
+    const unsigned char green[3] = {40, 160, 70}, blue[3] = {40, 90, 200}, orange[3] = {240, 140, 20}, red[3] = {230, 20, 20};
+    const auto x_of = [&](std::size_t frame) { return static_cast<int>(static_cast<double>(frame) * scale); };
+    const std::size_t m = t.texton.m;
+    for (int x = x_of(0); x <= x_of(m - 1); ++x)
+        for (int y = 0; y < strip; ++y) put(x, y, green);
+    for (int x = x_of(n_in - m); x <= x_of(n_in - 1); ++x)
+        for (int y = 0; y < strip; ++y) put(x, y, blue);
+    for (const auto& [first, last] : t.overlap_spans)
+        for (int x = x_of(first); x <= x_of(last); ++x)
+            for (int y = 0; y < strip; ++y) put(x, strip + panel + gap + y, orange);
+    const auto crossings = cut_crossings(t);
+    for (std::size_t i = 0; i < shown.size(); ++i) {
+        const std::size_t r = static_cast<std::size_t>(shown[i]) / 3;
+        for (std::size_t k : crossings[r])
+            for (int y = 0; y < row_h; ++y) put(x_of(k), strip + panel + gap + strip + static_cast<int>(i) * row_h + y, red);
+    }
+    write_png(path, width, height, 3, px, "--plot");
+}
+
+void run_texture(const texture_options& o) {
+    if (!o.plot.empty()) require_png("--plot");
+    const auto start = clock_type::now();
+    const std::string text = read_text_file(o.input);
+    const clip_t whole = anima::to_clip(anima::parse_bvh_document<double>(text, o.input));
+    const int decimals = std::max(6, bvh_value_decimals(text));
+    if (whole.frames() == 0) throw failure("'" + o.input + "' has no frames");
+    std::size_t first = o.first;
+    const bool first_given = o.first_opt->count() > 0;
+    if (first_given && first >= whole.frames())
+        throw failure("--first " + std::to_string(first) + " is outside '" + o.input + "' (" +
+                      std::to_string(whole.frames()) + " frames)");
+    if (!first_given) {
+        first = rest_pose_lead_in(whole);
+        if (first > 0)
+            std::cerr << "anima: note: frame 0 of '" << o.input << "' is the skeleton's rest pose"
+                      << (first > 1 ? " and frames 1.." + std::to_string(first - 1) + " swing out of it" : "")
+                      << "; the texture starts from frame " << first << " (--first 0 keeps them)\n";
+    }
+    const clip_t c = first ? whole.slice(first, whole.frames()) : whole;
+    const double read_seconds = seconds_since(start);
+
+    anima::motion_texture_params<double> p;
+    if (o.up_opt->count() > 0) p.texton.up = parse_signed_axis(o.up);
+    const anima::signed_axis up = p.texton.up ? *p.texton.up : anima::guess_up_axis(c.skeleton()).up;
+    p.texton.up = up;
+    const bool m_given = o.m_opt->count() > 0, overlap_given = o.overlap_opt->count() > 0;
+    p.texton.m = o.m;
+    p.texton.overlap = o.overlap;
+    // Defaults shrink to fit a short clip; given values are taken as they are.
+    if (!m_given) {
+        const std::size_t keep = p.texton.overlap;
+        p.texton = anima::fit_texton_lengths(p.texton, c.frames());
+        if (overlap_given) p.texton.overlap = keep;
+    } else if (!overlap_given) {
+        p.texton.overlap = std::clamp<std::size_t>(o.m / 2, 2, 50);
+    }
+    p.texton.blend.enabled = !o.hard_cut;
+    p.texton.blend.frames = o.blend;
+    p.texton.align_heading = !o.keep_heading;
+    p.texton.distance.metric = anima::parse_frame_metric(o.metric);
+    p.texton.cut.cost.capacity = anima::parse_seam_capacity(o.capacity);
+    p.texton.cut.neighbour_weight = o.neighbour_weight;
+    p.smoothing.enabled = o.smoothing != "none";
+    if (p.smoothing.enabled) p.smoothing.poisson.form = anima::parse_seam_smoothing_form(o.smoothing);
+    p.smoothing.poisson.solver = anima::parse_poisson_method(o.solver);
+    p.root = anima::parse_root_path(o.root);
+    p.mixing.symmetric = o.symmetric;
+    p.mixing.probability = o.mix_probability;
+    p.mixing.playback.seed = o.seed;
+
+    const auto stage = [&](const char* what, double seconds) {
+        if (o.progress || seconds > 1.0) std::cerr << "anima: " << what << ": " << format_number(seconds, 3) << " s\n";
+    };
+    const anima::motion_texton<double> texton = anima::make_texton(c, p.texton);
+    stage("texton (features, search, cut, fades)", texton.timings.total);
+    const anima::motion_texture<double> t = anima::patch_texton(texton, o.frames, p);
+    stage("texture (patching, smoothing)", t.timings.patch + t.timings.smoothing);
+
+    const auto write_start = clock_type::now();
+    anima::bvh_write_options write;
+    write.decimals = decimals;
+    if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(t.motion, write));
+    if (!o.texton_output.empty()) write_text_file(o.texton_output, anima::format_bvh(texton.motion, write));
+    if (!o.plot.empty()) write_plot(o.plot, c, t, up);
+    const double write_seconds = seconds_since(write_start);
+
+    // How smooth the seams are, against the input's own speeds.
+    const auto limits = anima::clip_speed_limits(c);
+    const auto speeds = anima::seam_speeds(t.motion, t.overlap_spans, limits);
+    double worst_joint = 0, worst_root = 0;
+    std::string worst_joint_name;
+    for (const auto& s : speeds) {
+        if (s.joint_ratio > worst_joint) {
+            worst_joint = s.joint_ratio;
+            worst_joint_name = c.skeleton()[s.worst_joint].name;
+        }
+        worst_root = std::max(worst_root, s.root_ratio);
+    }
+    bool finite = true;
+    for (std::size_t f = 0; f < t.motion.frames() && finite; ++f)
+        for (std::size_t j = 0; j < t.motion.joints(); ++j)
+            finite = finite && t.motion.rotation(f, j).coeffs().allFinite() && t.motion.translation(f, j).allFinite();
+    if (!t.smoothing.converged)
+        std::cerr << "anima: warning: a Poisson solve stopped at relative residual "
+                  << format_number(t.smoothing.relative_residual, 3) << " above its tolerance\n";
+
+    const double dt = c.frame_time();
+    if (o.json) {
+        json seams = json::array();
+        for (std::size_t col = 0; col < texton.layout.size(); ++col) {
+            const std::size_t r = col / 3;
+            seams.push_back({{"dof", texton.layout.name(c.skeleton(), col)},
+                             {"overlap_frame", texton.cut.seam[r]},
+                             {"texton_frame", texton.seam_frame(r)},
+                             {"cost", texton.cut.row_cost[r]}});
+        }
+        json spans = json::array();
+        for (std::size_t i = 0; i < speeds.size(); ++i)
+            spans.push_back({{"first", speeds[i].first},
+                             {"last", speeds[i].last},
+                             {"joint_speed_ratio", speeds[i].joint_ratio},
+                             {"worst_joint", c.skeleton()[speeds[i].worst_joint].name},
+                             {"root_speed_ratio", speeds[i].root_ratio}});
+        json out = {{"input", o.input},
+                    {"first", first},
+                    {"input_frames", c.frames()},
+                    {"frames", t.motion.frames()},
+                    {"seconds", static_cast<double>(t.motion.frames()) * dt},
+                    {"frame_time", dt},
+                    {"m", texton.m},
+                    {"overlap", texton.overlap},
+                    {"blend_frames", texton.blend_frames},
+                    {"offsets", {{"m2", texton.offset_m2}, {"m1", texton.offset_m1}}},
+                    {"texton", {{"frames", texton.motion.frames()},
+                                {"overlap_start", texton.overlap_start},
+                                {"heading_turn_degrees", anima::degrees(texton.heading_turn)}}},
+                    {"search_cost", texton.search_cost},
+                    {"cut_cost", texton.cut.cost},
+                    {"neighbour_cost", texton.cut.neighbour_cost},
+                    {"capacity", o.capacity},
+                    {"metric", o.metric},
+                    {"smoothing", o.smoothing},
+                    {"seams", seams},
+                    {"overlap_passes", spans},
+                    {"seam_check", {{"joint_speed_ratio", worst_joint},
+                                    {"worst_joint", worst_joint_name},
+                                    {"root_speed_ratio", worst_root},
+                                    {"finite", finite}}},
+                    {"poisson", {{"solves", t.smoothing.solves},
+                                 {"iterations", t.smoothing.iterations},
+                                 {"relative_residual", t.smoothing.relative_residual},
+                                 {"converged", t.smoothing.converged}}},
+                    {"stage_seconds", {{"read", read_seconds},
+                                       {"features", t.timings.features},
+                                       {"search", t.timings.search},
+                                       {"cut", t.timings.cut},
+                                       {"blend", t.timings.blend},
+                                       {"patch", t.timings.patch},
+                                       {"smoothing", t.timings.smoothing},
+                                       {"write", write_seconds},
+                                       {"total", seconds_since(start)}}}};
+        if (o.symmetric)
+            out["symmetric"] = {{"seed", o.seed}, {"probability", o.mix_probability}, {"passages", t.passages}, {"turns", t.turns}};
+        if (!o.output.empty()) out["output"] = o.output;
+        if (!o.texton_output.empty()) out["texton_output"] = o.texton_output;
+        if (!o.plot.empty()) out["plot"] = o.plot;
+        print_json(out);
+        return;
+    }
+    std::cout << "texture of " << file_name(o.input) << " frames " << first << ".." << whole.frames() - 1 << " ("
+              << c.frames() << " at " << format_number(c.frame_rate()) << " fps): " << t.motion.frames() << " frames, "
+              << format_number(static_cast<double>(t.motion.frames()) * dt, 4) << " s\n";
+    std::cout << "texton: m = " << texton.m << ", overlap " << texton.overlap << " (M2 frame " << texton.offset_m2
+              << " over M1 frame " << texton.offset_m1 << "), " << texton.motion.frames() << " frames, fades of "
+              << texton.blend_frames << " frames, heading turn " << format_number(anima::degrees(texton.heading_turn), 3)
+              << " deg per loop\n";
+    std::size_t lo = texton.overlap, hi = 0;
+    for (std::size_t s : texton.cut.seam) {
+        lo = std::min(lo, s);
+        hi = std::max(hi, s);
+    }
+    std::cout << "seams: " << texton.rows() << " rows switch at overlap frames " << lo << ".." << hi << ", cut cost "
+              << format_number(texton.cut.cost, 4) << " (" << format_number(texton.cut.neighbour_cost, 4)
+              << " between neighbouring joints)\n";
+    std::cout << "seam check over " << speeds.size() << " pass" << (speeds.size() == 1 ? "" : "es")
+              << " through the overlap: joint speed <= " << format_fixed(worst_joint, 3) << " x the input's fastest"
+              << (worst_joint_name.empty() ? "" : " (" + worst_joint_name + ")") << ", root speed <= "
+              << format_fixed(worst_root, 3) << " x" << (finite ? "" : "; NON-FINITE VALUES") << "\n";
+    if (o.symmetric) std::cout << t.passages << " symmetric passages, " << t.turns.size() << " turns\n";
+    std::cout << "stages (s): search " << format_number(t.timings.search, 3) << ", cut " << format_number(t.timings.cut, 3)
+              << ", fades " << format_number(t.timings.blend, 3) << ", patch " << format_number(t.timings.patch, 3)
+              << ", Poisson " << format_number(t.timings.smoothing, 3) << ", total " << format_number(t.timings.total, 3)
+              << "\n";
+    if (!o.output.empty()) std::cout << "wrote " << o.output << '\n';
+    if (!o.texton_output.empty()) std::cout << "wrote " << o.texton_output << " (the texton)\n";
+    if (!o.plot.empty()) std::cout << "wrote " << o.plot << ": input and texture as DOF x frame images, seams in red\n";
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_texture(CLI::App& app) {
+    using namespace anima_cli;
+    auto opts = std::make_shared<texture_options>();
+    CLI::App* sub = app.add_subcommand(
+        "texture", "Make a long, seamless motion from a clip: graph-cut textons patched end to end, Poisson-smoothed");
+    sub->add_option("IN", opts->input, "BVH clip")->required()->type_name("PATH");
+    sub->add_option("--frames", opts->frames, "Length of the texture in frames")
+        ->required()
+        ->type_name("N")
+        ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}));
+    sub->add_option("-o,--output", opts->output, "Write the texture to this BVH file")->type_name("OUT.bvh");
+    sub->add_option("--plot", opts->plot, "Draw input and texture as DOF x frame images with the seams (PNG)")
+        ->type_name("OUT.png");
+    sub->add_option("--texton", opts->texton_output, "Write the texton (one loop) to this BVH file")->type_name("OUT.bvh");
+    opts->m_opt = sub->add_option("-m", opts->m, "Frames of M1 (the clip's first) and M2 (its last); default 100, or half a shorter clip")
+                      ->type_name("M")
+                      ->check(CLI::Range(std::size_t{2}, std::size_t{100000000}));
+    opts->overlap_opt = sub->add_option("--overlap", opts->overlap, "Frames where M2 and M1 overlap (2..M); default 50, or M / 2")
+                            ->type_name("N")
+                            ->check(CLI::Range(std::size_t{2}, std::size_t{100000000}));
+    sub->add_option("--blend", opts->blend, "Frames of each fade (0: half the overlap)")->type_name("K")->capture_default_str();
+    sub->add_flag("--hard-cut", opts->hard_cut, "Switch at the seam without a fade");
+    sub->add_option("--capacity", opts->capacity, "Seam capacity: normalized (Kwatra's M / grad), exponential or plain")
+        ->check(CLI::IsMember({"normalized", "exponential", "plain"}))
+        ->capture_default_str();
+    sub->add_option("--metric", opts->metric, "Frame distance of the offset search: mahalanobis (Eq 2) or l2 (Eq 1)")
+        ->check(CLI::IsMember({"mahalanobis", "l2"}))
+        ->capture_default_str();
+    sub->add_option("--neighbour-weight", opts->neighbour_weight, "Tie between neighbouring joints' seams (0: independent)")
+        ->type_name("W")
+        ->check(CLI::Range(0.0, 1e6))
+        ->capture_default_str();
+    sub->add_option("--smoothing", opts->smoothing, "Poisson smoothing: 1d (per DOF), 2d (the DOF x frame image) or none")
+        ->check(CLI::IsMember({"1d", "2d", "none"}))
+        ->capture_default_str();
+    sub->add_option("--solver", opts->solver, "Poisson solver: multigrid or dst")
+        ->check(CLI::IsMember({"multigrid", "dst"}))
+        ->capture_default_str();
+    sub->add_flag("--keep-heading", opts->keep_heading,
+                  "Compare and blend the figure's heading like any rotation (it then turns back in the overlap)");
+    sub->add_option("--root", opts->root, "The root's ground path: accumulated, keep_direction, in_place or recorded")
+        ->check(CLI::IsMember({"recorded", "in_place", "accumulated", "keep_direction"}))
+        ->capture_default_str();
+    auto* symmetric = sub->add_flag("--symmetric", opts->symmetric,
+                                    "Mix in symmetric playback: at turning candidates play backwards for a while");
+    sub->add_option("--mix-probability", opts->mix_probability, "Chance of a symmetric passage at each candidate")
+        ->type_name("P")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str()
+        ->needs(symmetric);
+    sub->add_option("--seed", opts->seed, "Seed of the symmetric passages (same seed, same motion)")->capture_default_str();
+    opts->first_opt = sub->add_option("--first", opts->first,
+                                      "First frame to use (default: after a rest pose the clip starts with, if any)")
+                          ->type_name("FRAME");
+    opts->up_opt = sub->add_option("--up", opts->up, "The clip's up axis, instead of the one guessed from the skeleton")
+                       ->type_name("AXIS")
+                       ->check(signed_axis_validator());
+    sub->add_flag("--progress", opts->progress, "Report the time of each stage on stderr");
+    sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
+    sub->callback([opts] { run_texture(*opts); });
+}

@@ -1,0 +1,15 @@
+// Poisson solvers on regular grids: the problem description, the 5-point
+// Laplacian and its residual, gradient fields and their divergence, full
+// multigrid (O(n)), the sine/cosine-transform fast solver (O(n log n)) with
+// its FFT, and the seam smoothing of stitched motion (Eq 14).
+#pragma once
+
+#include <anima/poisson/dst_poisson.hpp>
+#include <anima/poisson/fft.hpp>
+#include <anima/poisson/gradient_field.hpp>
+#include <anima/poisson/grid.hpp>
+#include <anima/poisson/laplacian.hpp>
+#include <anima/poisson/motion_smoothing.hpp>
+#include <anima/poisson/multigrid_poisson.hpp>
+#include <anima/poisson/problem.hpp>
+#include <anima/poisson/real_transforms.hpp>

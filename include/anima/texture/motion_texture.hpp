@@ -1,0 +1,325 @@
+// A long motion texture: textons patched end to end to any length (Eq 10),
+// optionally mixed with symmetric playback, then Poisson-smoothed (Eq 14).
+//
+//   auto tex = anima::make_motion_texture(walk, 1700);   // 1700 frames
+//   tex.motion;        // the clip
+//   tex.texton.cut;    // per-row seams and costs
+//   tex.timings;       // seconds per stage
+//
+// Patching: the texture shows the texton's frames in a loop (the texton's
+// last frame leads into its first as recorded), each pass turned about the
+// up axis by the texton's heading turn. With mixing on, at each turning
+// candidate of the texton (symmetry_scores on the texton) a
+// symmetric-playback passage starts with some probability: the motion
+// plays on to a symmetric frame, backwards to another, and forwards again
+// (anima::symmetric_playback), then the loop resumes. The frame stream is
+// rendered with anima::resequence, so the root's ground path is
+// accumulated from the texton's steps and the figure never snaps back.
+//
+// Smoothing (Eq 14): the fades of values become fades of velocities
+// (motion_texton::fade_correction), each with one jump at its middle, and
+// anima::smooth_seams removes the jumps, with a seam wherever the stream
+// crosses the middle of a row's fade, spreading the mismatch they held
+// over the whole texture. 1D per row by default; the paper's 2D form
+// smooths the frames x DOF image once, at every row's seams. The root's
+// ground position is not smoothed (it is already a sum of steps).
+#pragma once
+
+#include <anima/core/constants.hpp>
+#include <anima/core/error.hpp>
+#include <anima/core/random.hpp>
+#include <anima/motion/clip.hpp>
+#include <anima/motion/dof_view.hpp>
+#include <anima/motion/figure.hpp>
+#include <anima/motion/resequence.hpp>
+#include <anima/poisson/motion_smoothing.hpp>
+#include <anima/symmetry/symmetric_playback.hpp>
+#include <anima/symmetry/symmetry_scores.hpp>
+#include <anima/texture/texton.hpp>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace anima {
+
+template <class T>
+struct texture_mixing_params {
+    /// Mix symmetric-playback passages into the loop.
+    bool symmetric = false;
+    /// Chance that a passage starts at a turning candidate the loop reaches.
+    T probability = T(0.5);
+    /// Turning candidates of the texton.
+    symmetry_params<T> symmetry;
+    /// The passages' turning rule; its seed seeds the whole mixing.
+    playback_params<T> playback;
+};
+
+template <class T>
+struct texture_smoothing_params {
+    bool enabled = true;
+    /// Form (1D per row by default, 2D image), solver, boundaries, and the
+    /// differences replaced on each side of a seam's jump (radius).
+    seam_smoothing_params<T> poisson;
+};
+
+template <class T>
+struct motion_texture_params {
+    texton_params<T> texton;
+    texture_mixing_params<T> mixing;
+    texture_smoothing_params<T> smoothing;
+    /// The root's ground path (accumulated: the texton's steps added up).
+    root_path root = root_path::accumulated;
+    /// Texton frame the texture starts at (taken modulo its length).
+    std::size_t start = 0;
+};
+
+template <class T>
+struct motion_texture {
+    clip<T> motion;
+    motion_texton<T> texton;
+    /// Texton frame shown at each output frame.
+    std::vector<std::size_t> stream;
+    /// Per texton row: output frames where the stream crosses the middle of
+    /// the row's fade (the frame after the crossing): its seams as
+    /// anima::smooth_seams takes them.
+    std::vector<std::vector<std::size_t>> row_seams;
+    /// [first, last] output frames of each pass through the texton's overlap.
+    std::vector<std::pair<std::size_t, std::size_t>> overlap_spans;
+    /// Output frames where a symmetric passage reversed.
+    std::vector<std::size_t> turns;
+    /// Symmetric passages played.
+    std::size_t passages = 0;
+    seam_smoothing_stats<T> smoothing;
+    texture_timings timings;
+};
+
+/// The frame stream of a texture of `frames` frames over a texton, and
+/// where symmetric passages turned. Exposed for tests and tools; see
+/// make_motion_texture.
+template <class T>
+std::vector<std::size_t> texture_stream(const motion_texton<T>& texton, std::size_t frames,
+                                        const motion_texture_params<T>& params = {},
+                                        std::vector<std::size_t>* turns = nullptr, std::size_t* passages = nullptr) {
+    const std::size_t L = texton.motion.frames();
+    if (L == 0) throw invalid_argument("anima::texture_stream: the texton has no frames");
+    std::vector<std::size_t> out;
+    out.reserve(frames);
+    std::vector<turning_candidate<T>> candidates;
+    std::vector<bool> is_candidate(L, false);
+    std::size_t last_candidate = 0;
+    if (params.mixing.symmetric) {
+        if (!(params.mixing.probability >= T(0)) || !(params.mixing.probability <= T(1)))
+            throw invalid_argument("anima::texture_stream: the mixing probability must be in [0, 1], got " +
+                                   std::to_string(static_cast<double>(params.mixing.probability)));
+        candidates = symmetry_scores(texton.motion, params.mixing.symmetry).candidates;
+        for (const auto& c : candidates) {
+            is_candidate[c.frame] = true;
+            last_candidate = std::max(last_candidate, c.frame);
+        }
+        if (candidates.size() < 2) candidates.clear();  // nowhere to turn back to
+    }
+    random_source random(params.mixing.playback.seed);
+    std::size_t pos = params.start % L;
+    while (out.size() < frames) {
+        out.push_back(pos);
+        if (!candidates.empty() && is_candidate[pos] && pos < last_candidate && out.size() < frames &&
+            random.uniform() < static_cast<double>(params.mixing.probability)) {
+            playback_params<T> pp = params.mixing.playback;
+            pp.start_frame = pos;
+            pp.seed = random.raw();
+            symmetric_playback<T> playback(L, candidates, pp);
+            const std::size_t base = out.size() - 1;
+            playback.next();  // the start frame, shown already
+            while (out.size() < frames) {
+                pos = playback.next();
+                out.push_back(pos);
+                // An even number of turns: moving forwards again.
+                if (playback.turns().size() >= 2 && playback.turns().size() % 2 == 0) break;
+            }
+            if (turns)
+                for (std::size_t t : playback.turns())
+                    if (base + t < frames) turns->push_back(base + t);
+            if (passages) ++*passages;
+        }
+        pos = (pos + 1) % L;
+    }
+    return out;
+}
+
+/// Patches a texton into a texture of `frames` frames (Eq 10): the stream,
+/// resequencing with the root policy, and the Poisson stage. Throws
+/// anima::invalid_argument for frames = 0 or bad parameters.
+template <class T>
+motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frames,
+                               const motion_texture_params<T>& params = {}) {
+    using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    if (frames == 0) throw invalid_argument("anima::patch_texton: the texture needs at least one frame (N = 0)");
+    detail::stopwatch clock;
+    motion_texture<T> out;
+    out.texton = texton;
+    out.timings = texton.timings;
+    const std::size_t rows = texton.rows();
+    out.stream = texture_stream(texton, frames, params, &out.turns, &out.passages);
+    resequence_params rp;
+    rp.root = params.root;
+    rp.up = params.texton.up ? *params.texton.up : guess_up_axis(texton.motion.skeleton()).up;
+    out.motion = resequence(texton.motion, out.stream, rp);
+
+    // Where the stream crosses each row's seam, and the overlap passes.
+    out.row_seams.resize(rows);
+    for (std::size_t k = 1; k < frames; ++k) {
+        const std::size_t p = out.stream[k - 1], q = out.stream[k];
+        for (std::size_t r = 0; r < rows; ++r) {
+            const std::size_t s = texton.blend_centre(r);
+            if ((p + 1 == s && q == s) || (p == s && q + 1 == s)) out.row_seams[r].push_back(k);
+        }
+    }
+    const auto in_overlap = [&](std::size_t f) { return f >= texton.overlap_start && f < texton.overlap_start + texton.overlap; };
+    for (std::size_t k = 0; k < frames; ++k) {
+        if (!in_overlap(out.stream[k])) continue;
+        if (!out.overlap_spans.empty() && out.overlap_spans.back().second + 1 == k)
+            out.overlap_spans.back().second = k;
+        else
+            out.overlap_spans.emplace_back(k, k);
+    }
+
+    // Each pass of the loop turned by the texton's heading turn: the root's
+    // orientation, and its ground steps where the path is made of steps.
+    const auto& sk = texton.motion.skeleton();
+    if (texton.heading_turn != T(0) && sk.has_rotation_channels(0)) {
+        using vec3 = Eigen::Matrix<T, 3, 1>;
+        const std::size_t L = texton.motion.frames();
+        const vec3 up_vec = axis_vector<T>(*rp.up);
+        const int up_k = static_cast<int>(rp.up->axis);
+        const bool steps = sk.translation_slot(0) >= 0 &&
+                           (params.root == root_path::accumulated || params.root == root_path::keep_direction);
+        long pass = 0;
+        vec3 previous = steps ? out.motion.root_position(0) : vec3::Zero();
+        vec3 position = previous;
+        for (std::size_t k = 0; k < frames; ++k) {
+            if (k > 0 && out.stream[k - 1] + 1 == L && out.stream[k] == 0) ++pass;
+            if (k > 0 && out.stream[k - 1] == 0 && out.stream[k] + 1 == L) --pass;
+            const Eigen::Quaternion<T> turn(Eigen::AngleAxis<T>(static_cast<T>(pass) * texton.heading_turn, up_vec));
+            out.motion.set_rotation(k, 0, turn * out.motion.rotation(k, 0));
+            if (!steps) continue;
+            const vec3 recorded = out.motion.root_position(k);
+            if (k > 0) {
+                vec3 step = recorded - previous;
+                step[up_k] = T(0);
+                position += turn * step;
+            }
+            previous = recorded;
+            vec3 p = position;
+            p[up_k] = recorded[up_k];
+            out.motion.set_root_position(k, p);
+        }
+    }
+    out.timings.patch = clock.lap();
+
+    // Poisson smoothing (Eq 14). The fades become fades of velocities, each
+    // with one jump at its middle (texton.fade_correction); smooth_seams
+    // removes the jumps and spreads what they held over the whole texture.
+    const bool any_seam = std::any_of(out.row_seams.begin(), out.row_seams.end(), [](const auto& s) { return !s.empty(); });
+    if (params.smoothing.enabled && frames >= 3) {
+        const auto& layout = texton.layout;
+        const auto& fix = texton.fade_correction;
+        for (std::size_t k = 0; k < frames; ++k) {
+            const auto f = static_cast<Eigen::Index>(out.stream[k]);
+            for (std::size_t col = 0; col < layout.size(); col += 3) {
+                const Eigen::Matrix<T, 3, 1> v = fix.row(f).segment(static_cast<Eigen::Index>(col), 3).transpose();
+                if (v.isZero(T(0))) continue;
+                const dof& d = layout.dofs[col];
+                if (d.type == dof::kind::rotation)
+                    out.motion.set_rotation(k, d.joint, out.motion.rotation(k, d.joint) *
+                                                            from_rotation_vector<Eigen::Quaternion<T>>(v));
+                else
+                    out.motion.set_translation(k, d.joint, out.motion.translation(k, d.joint) + v);
+            }
+        }
+    }
+    if (params.smoothing.enabled && frames >= 3 && any_seam) {
+        const auto& layout = texton.layout;
+        matrix y = to_dof_matrix(out.motion, layout);
+        detail::unwrap_rotation_vectors(y, layout);
+        const int up_k = static_cast<int>(rp.up->axis);
+        // Columns smoothed per row: all three of a rotation, the height of
+        // the root's translation (its ground path is a sum of steps).
+        const auto columns = [&](std::size_t r) {
+            std::vector<Eigen::Index> cols;
+            for (int k = 0; k < 3; ++k) {
+                const std::size_t c = 3 * r + static_cast<std::size_t>(k);
+                const dof& d = layout.dofs[c];
+                if (d.type == dof::kind::rotation || d.joint != 0 || d.component == up_k)
+                    cols.push_back(static_cast<Eigen::Index>(c));
+            }
+            return cols;
+        };
+        const auto record = [&](const seam_smoothing_stats<T>& s) {
+            out.smoothing.solves += s.solves;
+            out.smoothing.iterations = std::max(out.smoothing.iterations, s.iterations);
+            out.smoothing.relative_residual = std::max(out.smoothing.relative_residual, s.relative_residual);
+            out.smoothing.converged = out.smoothing.converged && s.converged;
+        };
+        const auto smooth = [&](const std::vector<Eigen::Index>& cols, const std::vector<std::size_t>& seams) {
+            matrix part(y.rows(), static_cast<Eigen::Index>(cols.size()));
+            for (std::size_t i = 0; i < cols.size(); ++i) part.col(static_cast<Eigen::Index>(i)) = y.col(cols[i]);
+            const auto s = smooth_seams(part, seams, params.smoothing.poisson);
+            for (std::size_t i = 0; i < cols.size(); ++i) y.col(cols[i]) = s.motion.col(static_cast<Eigen::Index>(i));
+            record(s.stats);
+        };
+        if (params.smoothing.poisson.form == seam_smoothing_form::temporal) {
+            // Rows with the same seams share one call (and one multigrid
+            // hierarchy); the columns stay independent problems.
+            std::vector<bool> done(rows, false);
+            for (std::size_t r = 0; r < rows; ++r) {
+                if (done[r] || out.row_seams[r].empty()) continue;
+                std::vector<Eigen::Index> cols;
+                for (std::size_t q = r; q < rows; ++q)
+                    if (!done[q] && out.row_seams[q] == out.row_seams[r]) {
+                        const auto c = columns(q);
+                        cols.insert(cols.end(), c.begin(), c.end());
+                        done[q] = true;
+                    }
+                smooth(cols, out.row_seams[r]);
+            }
+        } else {
+            std::vector<Eigen::Index> cols;
+            std::vector<std::size_t> seams;
+            for (std::size_t r = 0; r < rows; ++r) {
+                const auto c = columns(r);
+                cols.insert(cols.end(), c.begin(), c.end());
+                seams.insert(seams.end(), out.row_seams[r].begin(), out.row_seams[r].end());
+            }
+            smooth(cols, seams);
+        }
+        // The ground path stays the resequenced one.
+        for (std::size_t c = 0; c < layout.size(); ++c) {
+            const dof& d = layout.dofs[c];
+            if (d.type == dof::kind::translation && d.joint == 0 && d.component != up_k)
+                for (std::size_t k = 0; k < frames; ++k)
+                    y(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(c)) = out.motion.root_position(k)[d.component];
+        }
+        from_dof_matrix(y, layout, out.motion);
+    }
+
+    out.timings.smoothing = clock.lap();
+    out.timings.total = texton.timings.total + out.timings.patch + out.timings.smoothing;
+    return out;
+}
+
+/// A texture of `frames` frames from a clip: make_texton, then
+/// patch_texton. Throws anima::invalid_argument for frames = 0 and
+/// everything make_texton refuses.
+template <class T>
+motion_texture<T> make_motion_texture(const clip<T>& c, std::size_t frames, const motion_texture_params<T>& params = {}) {
+    if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
+    return patch_texton(make_texton(c, params.texton), frames, params);
+}
+
+}  // namespace anima

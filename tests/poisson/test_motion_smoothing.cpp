@@ -1,0 +1,182 @@
+// Poisson seam smoothing of stitched motion: synthetic frames x DOF signals
+// with known jumps (the smoothed differences must equal the target, the
+// correction must be piecewise linear in time), the paper's 2D form, both
+// solvers, a stitched CMU walk, float, and the errors.
+#include <anima/bvh/reader.hpp>
+#include <anima/core/error.hpp>
+#include <anima/motion/clip.hpp>
+#include <anima/motion/dof_view.hpp>
+#include <anima/poisson/motion_smoothing.hpp>
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <string>
+#include <vector>
+
+namespace {
+
+using matd = Eigen::MatrixXd;
+
+// A smooth motion with steps added from each seam on.
+matd stitched(Eigen::Index frames, Eigen::Index dofs, const std::vector<std::size_t>& seams, matd* smooth = nullptr) {
+    matd m(frames, dofs);
+    for (Eigen::Index c = 0; c < dofs; ++c)
+        for (Eigen::Index f = 0; f < frames; ++f)
+            m(f, c) = std::sin(0.05 * static_cast<double>(f) * (1 + 0.3 * static_cast<double>(c))) + 0.1 * static_cast<double>(c);
+    if (smooth) *smooth = m;
+    for (std::size_t k = 0; k < seams.size(); ++k)
+        for (Eigen::Index c = 0; c < dofs; ++c)
+            m.bottomRows(frames - static_cast<Eigen::Index>(seams[k])).col(c).array() +=
+                (k % 2 ? -0.7 : 0.9) * (1 + 0.5 * static_cast<double>(c));
+    return m;
+}
+
+// The jump at a seam beyond the mean of the neighbouring differences.
+double excess_jump(const matd& m, std::size_t seam, Eigen::Index c) {
+    const auto s = static_cast<Eigen::Index>(seam);
+    const double jump = m(s, c) - m(s - 1, c);
+    const double before = m(s - 1, c) - m(s - 2, c), after = m(s + 1, c) - m(s, c);
+    return jump - 0.5 * (before + after);
+}
+
+}  // namespace
+
+TEST_CASE("seam_target_differences replaces the jumps by the neighbours' trend") {
+    const std::vector<std::size_t> seams = {40, 90};
+    const matd m = stitched(150, 3, seams);
+    const matd d = anima::seam_target_differences(m, seams);
+    CHECK(d.rows() == 149);
+    for (Eigen::Index k = 0; k < 149; ++k) {
+        if (k == 39 || k == 89) continue;
+        CHECK((d.row(k) - (m.row(k + 1) - m.row(k))).norm() == 0);
+    }
+    CHECK((d.row(39) - 0.5 * (d.row(38) + d.row(40))).norm() < 1e-15);
+    // radius 2: five differences, linear between the nearest kept ones
+    const matd w = anima::seam_target_differences(m, {40}, 2);
+    for (Eigen::Index k = 37; k <= 41; ++k) {
+        const double t = static_cast<double>(k - 36) / 6.0;
+        CHECK((w.row(k) - ((1 - t) * w.row(36) + t * w.row(42))).norm() < 1e-14);
+    }
+    // A seam at the last frame keeps only its left neighbour.
+    const matd e = anima::seam_target_differences(m, {149});
+    CHECK((e.row(148) - e.row(147)).norm() == 0);
+}
+
+TEST_CASE_TEMPLATE("temporal smoothing removes each jump and keeps every other difference", T, double, float) {
+    using mat = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const std::vector<std::size_t> seams = {60, 61, 150};
+    const matd md = stitched(220, 4, seams);
+    const mat m = md.cast<T>();
+    for (auto solver : {anima::poisson_method::multigrid, anima::poisson_method::dst}) {
+        CAPTURE(anima::to_string(solver));
+        anima::seam_smoothing_params<T> prm;
+        prm.solver = solver;
+        if (std::is_same<T, double>::value) prm.multigrid.tolerance = T(1e-12);
+        const auto out = anima::smooth_seams(m, seams, prm);
+        CHECK(out.stats.converged);
+        CHECK(out.stats.solves == 4);
+        const matd u = out.motion.template cast<double>();
+        const matd target = anima::seam_target_differences(md, seams);
+        const double tol = std::is_same<T, float>::value ? 2e-3 : 1e-8;
+        // First and last frames stay.
+        CHECK((out.motion.row(0) - m.row(0)).norm() == 0);
+        CHECK((out.motion.row(219) - m.row(219)).norm() == 0);
+        // The correction u - m is linear between seams: its differences are
+        // the target's minus the motion's plus one constant per DOF.
+        const matd du = u.bottomRows(219) - u.topRows(219);
+        for (Eigen::Index c = 0; c < 4; ++c) {
+            const double drift = du(0, c) - target(0, c);
+            for (Eigen::Index k = 0; k < 219; ++k) CHECK(std::abs(du(k, c) - target(k, c) - drift) < tol);
+            CHECK(std::abs(excess_jump(md, 150, c)) > 0.5);
+            CHECK(std::abs(excess_jump(u, 150, c)) < 10 * tol);
+        }
+    }
+}
+
+TEST_CASE("without seams the motion comes back unchanged, in both forms") {
+    matd m = stitched(90, 5, {});
+    for (auto form : {anima::seam_smoothing_form::temporal, anima::seam_smoothing_form::image})
+        for (auto sides : {anima::boundary::neumann, anima::boundary::dirichlet}) {
+            anima::seam_smoothing_params<double> prm;
+            prm.form = form;
+            prm.dof_sides = sides;
+            prm.multigrid.tolerance = 1e-12;
+            CHECK((anima::smooth_seams(m, {}, prm).motion - m).cwiseAbs().maxCoeff() < 1e-9);
+            prm.solver = anima::poisson_method::dst;
+            CHECK((anima::smooth_seams(m, {}, prm).motion - m).cwiseAbs().maxCoeff() < 1e-9);
+        }
+}
+
+TEST_CASE("the 2D form: one DOF is the 1D form, several DOFs share their jumps") {
+    const std::vector<std::size_t> seams = {70};
+    anima::seam_smoothing_params<double> one_d, two_d;
+    two_d.form = anima::seam_smoothing_form::image;
+    one_d.multigrid.tolerance = two_d.multigrid.tolerance = 1e-12;
+    const matd single = stitched(160, 1, seams);
+    CHECK((anima::smooth_seams(single, seams, two_d).motion - anima::smooth_seams(single, seams, one_d).motion)
+              .cwiseAbs()
+              .maxCoeff() < 1e-9);
+
+    const matd m = stitched(160, 6, seams);
+    const auto mg = anima::smooth_seams(m, seams, two_d);
+    CHECK(mg.stats.solves == 1);
+    CHECK(mg.stats.converged);
+    auto fast_prm = two_d;
+    fast_prm.solver = anima::poisson_method::dst;
+    CHECK((anima::smooth_seams(m, seams, fast_prm).motion - mg.motion).cwiseAbs().maxCoeff() < 1e-8);
+    for (Eigen::Index c = 0; c < 6; ++c) CHECK(std::abs(excess_jump(mg.motion, 70, c)) < std::abs(excess_jump(m, 70, c)));
+    // The paper's zero padding on the DOF sides also solves.
+    two_d.dof_sides = anima::boundary::dirichlet;
+    CHECK(anima::smooth_seams(m, seams, two_d).stats.converged);
+}
+
+TEST_CASE("a stitched CMU walk is smoothed at the seam and kept elsewhere") {
+    const auto walk = anima::read_bvh<double>(std::string(ANIMA_TEST_DATA_DIR) + "/walk_cmu31_02_01.bvh");
+    REQUIRE(walk.frames() > 300);
+    auto c = walk.slice(0, 120);
+    c.append(walk.slice(200, 330));  // a jump in pose and root position at frame 120
+    const auto out = anima::smooth_seams(c, {120});
+    CHECK(out.stats.converged);
+    CHECK(out.motion.frames() == c.frames());
+    const auto layout = anima::make_dof_layout(c);
+    const matd before = anima::to_dof_matrix(c, layout);
+    const matd after = anima::to_dof_matrix(out.motion, layout);
+    double worst_before = 0, worst_after = 0;
+    for (Eigen::Index d = 0; d < before.cols(); ++d) {
+        worst_before = std::max(worst_before, std::abs(excess_jump(before, 120, d)));
+        worst_after = std::max(worst_after, std::abs(excess_jump(after, 120, d)));
+    }
+    CHECK(worst_before > 1.0);
+    CHECK(worst_after < 1e-6);
+    // The end frames are the input's.
+    for (std::size_t j = 0; j < c.joints(); ++j) {
+        CHECK(c.rotation(0, j).angularDistance(out.motion.rotation(0, j)) < 1e-9);
+        CHECK(c.rotation(249, j).angularDistance(out.motion.rotation(249, j)) < 1e-9);
+    }
+    CHECK((c.root_position(0) - out.motion.root_position(0)).norm() < 1e-9);
+}
+
+TEST_CASE("smooth_seams rejects bad input") {
+    const matd m = stitched(50, 2, {});
+    CHECK_THROWS_WITH_AS(anima::smooth_seams(m, {0}), doctest::Contains("seam at frame 0"), anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::smooth_seams(m, {50}), doctest::Contains("outside 1..49"), anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::smooth_seams(matd(matd::Zero(2, 3)), {1}), doctest::Contains("at least 3"),
+                         anima::invalid_argument);
+    matd nan = m;
+    nan(10, 1) = std::numeric_limits<double>::quiet_NaN();
+    CHECK_THROWS_WITH_AS(anima::smooth_seams(nan, {20}), doctest::Contains("motion(10, 1) is not finite"),
+                         anima::invalid_argument);
+    anima::seam_smoothing_params<double> prm;
+    prm.form = anima::seam_smoothing_form::image;
+    prm.dof_spacing = 0;
+    CHECK_THROWS_WITH_AS(anima::smooth_seams(m, {20}, prm), doctest::Contains("dof_spacing"), anima::invalid_argument);
+    CHECK(anima::parse_seam_smoothing_form("2d") == anima::seam_smoothing_form::image);
+    CHECK(anima::parse_poisson_method("dst") == anima::poisson_method::dst);
+    CHECK_THROWS_AS(anima::parse_seam_smoothing_form("3d"), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::parse_poisson_method("cg"), anima::invalid_argument);
+}

@@ -1,0 +1,338 @@
+// Textons and long textures: the offset search finds a planted repeat in a
+// clip, textures have exactly N frames of unit quaternions and finite
+// values, every seam keeps each joint's angular speed and the root's speed
+// within the input's own range (where a cut-and-paste loop does not), the
+// root keeps travelling and turning instead of snapping back, symmetric
+// playback mixes in reproducibly, and bad input is refused by name.
+#include "texture_test_support.hpp"
+
+#include <anima/core/error.hpp>
+#include <anima/motion/clip.hpp>
+#include <anima/rotation/quaternion.hpp>
+#include <anima/rotation/swing_twist.hpp>
+#include <anima/texture/motion_texture.hpp>
+#include <anima/texture/seam_speed.hpp>
+#include <anima/texture/texton.hpp>
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using namespace texture_test;
+
+template <class T>
+void check_well_formed(const anima::clip<T>& c, std::size_t frames) {
+    REQUIRE(c.frames() == frames);
+    const T tol = tolerance<T>(1e-12, 1e-5);
+    for (std::size_t f = 0; f < c.frames(); ++f)
+        for (std::size_t j = 0; j < c.joints(); ++j) {
+            const auto& q = c.rotation(f, j);
+            REQUIRE(q.coeffs().allFinite());
+            REQUIRE(std::abs(q.norm() - T(1)) < tol);
+            REQUIRE(c.translation(f, j).allFinite());
+        }
+}
+
+template <class T>
+T worst_joint(const std::vector<anima::seam_speed<T>>& s) {
+    T w = 0;
+    for (const auto& x : s) w = std::max(w, x.joint_ratio);
+    return w;
+}
+template <class T>
+T worst_root(const std::vector<anima::seam_speed<T>>& s) {
+    T w = 0;
+    for (const auto& x : s) w = std::max(w, x.root_ratio);
+    return w;
+}
+
+// ---------------------------------------------------------------------------
+// Textons
+// ---------------------------------------------------------------------------
+
+TEST_CASE_TEMPLATE("texton: a periodic clip is cut where it repeats, and loops exactly", T, float, double) {
+    const std::size_t period = 40;
+    const auto c = walker<T>(230, period);
+    anima::texton_params<T> p;
+    p.m = 60;
+    p.overlap = 30;
+    const auto x = anima::make_texton(c, p);
+    // M2's frame F - m + a must be a whole number of periods after M1's frame b.
+    CHECK((c.frames() - p.m + x.offset_m2 - x.offset_m1) % period == 0);
+    CHECK(x.motion.frames() == c.frames() - p.m + x.offset_m2 - x.offset_m1);
+    CHECK(x.motion.frames() % period == 0);
+    CHECK(x.search_cost < T(1e-3) * x.search_costs.mean());
+    CHECK(std::abs(x.heading_turn) < T(1e-3));
+    CHECK(x.overlap_start == c.frames() - 2 * p.m + x.offset_m2);
+    // Both sides of the overlap are the same motion: the texton is the clip's
+    // own frames from frame m on, period after period.
+    const T tol = tolerance<T>(1e-6, 2e-3);
+    for (std::size_t k = 0; k < x.motion.frames(); ++k)
+        for (std::size_t j = 1; j < c.joints(); ++j)
+            REQUIRE(anima::angle_between(x.motion.rotation(k, j), c.rotation((p.m + k) % period, j)) < tol);
+    for (std::size_t r = 0; r < x.rows(); ++r) {
+        CHECK(x.cut.seam[r] >= 1);
+        CHECK(x.cut.seam[r] < p.overlap);
+    }
+}
+
+TEST_CASE_TEMPLATE("texton: the search finds a repeat planted in a clip that never repeats", T, float, double) {
+    const std::size_t F = 230, m = 60, n = 30, a0 = 17, b0 = 6;
+    auto c = walker<T>(F, 37.3, 1.5);
+    // M2's frames a0 .. a0+n-1 become copies of M1's frames b0 .. b0+n-1,
+    // and so do the frames on either side: velocities (central
+    // differences) match inside the window too.
+    const std::size_t into = F - m + a0;
+    Eigen::Matrix<T, 3, 1> shift = c.root_position(into - 1) - c.root_position(b0 - 1);
+    shift.y() = 0;  // the same height, somewhere else on the ground
+    for (std::size_t t = 0; t < n + 2; ++t) {
+        for (std::size_t j = 0; j < c.joints(); ++j) c.set_rotation(into - 1 + t, j, c.rotation(b0 - 1 + t, j));
+        c.set_root_position(into - 1 + t, c.root_position(b0 - 1 + t) + shift);
+    }
+    anima::texton_params<T> p;
+    p.m = m;
+    p.overlap = n;
+    for (const auto metric : {anima::frame_metric::mahalanobis, anima::frame_metric::l2}) {
+        p.distance.metric = metric;
+        const auto x = anima::make_texton(c, p);
+        CHECK(x.offset_m2 == a0);
+        CHECK(x.offset_m1 == b0);
+        CHECK(x.search_cost < T(1e-3) * x.search_costs.mean());
+    }
+}
+
+TEST_CASE_TEMPLATE("texton: fitted lengths and refused input", T, float, double) {
+    const auto c = walker<T>(149, 30.0);
+    anima::texton_params<T> p;
+    const auto fitted = anima::fit_texton_lengths(p, c.frames());
+    CHECK(fitted.m == 74);
+    CHECK(fitted.overlap == 37);
+    CHECK(anima::fit_texton_lengths(p, 400).m == 100);
+    CHECK(anima::make_texton(c, fitted).motion.frames() >= fitted.overlap);
+
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(c, p); }), "m = 100 is too large for a clip of 149 frames"));
+    auto q = fitted;
+    q.overlap = 75;
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(c, q); }), "longer than m"));
+    q.overlap = 1;
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(c, q); }), "at least 2 frames"));
+    q = fitted;
+    q.blend.frames = 38;
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(c, q); }), "does not fit the overlap"));
+    const anima::clip<T> empty(figure<T>(), 0, T(1) / T(30));
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(empty, fitted); }), "too large for a clip of 0 frames"));
+    const anima::clip<T> one(figure<T>(), 1, T(1) / T(30));
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(one, anima::fit_texton_lengths(p, 1)); }),
+                   "clip of 1 frames"));
+    const anima::clip<T> bare(anima::skeleton<T>(), 10, T(1) / T(30));
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(bare, q); }), "no joints"));
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_motion_texture(c, 0, {}); }), "N = 0"));
+    CHECK(contains(invalid_argument_message([&] { (void)anima::patch_texton(anima::make_texton(c, fitted), 0); }), "N = 0"));
+}
+
+// ---------------------------------------------------------------------------
+// Textures
+// ---------------------------------------------------------------------------
+
+TEST_CASE_TEMPLATE("texture: exactly N frames of unit quaternions and finite values", T, float, double) {
+    const auto c = walker<T>(250, 37.3, 0.4);
+    anima::motion_texture_params<T> p;
+    p.texton.m = 80;
+    p.texton.overlap = 40;
+    const auto texton = anima::make_texton(c, p.texton);
+    for (std::size_t n : {1u, 2u, 3u, 17u, 400u, 1700u}) {
+        const auto t = anima::patch_texton(texton, n, p);
+        check_well_formed(t.motion, n);
+        CHECK(t.stream.size() == n);
+        CHECK(t.row_seams.size() == texton.rows());
+        for (std::size_t r = 0; r < texton.rows(); ++r)
+            for (std::size_t k : t.row_seams[r]) {
+                const std::size_t s = texton.blend_centre(r);
+                CHECK(((t.stream[k] == s && t.stream[k - 1] + 1 == s) || (t.stream[k] + 1 == s && t.stream[k - 1] == s)));
+            }
+    }
+    const auto t = anima::make_motion_texture(c, 1700, p);
+    CHECK(t.timings.total == doctest::Approx(t.timings.features + t.timings.search + t.timings.cut + t.timings.blend +
+                                             t.timings.patch + t.timings.smoothing));
+    CHECK(t.smoothing.solves > 0);
+    CHECK(t.smoothing.converged);
+    CHECK(!t.overlap_spans.empty());
+}
+
+template <class T>
+void check_seams_smooth(const anima::clip<T>& c, const anima::motion_texture_params<T>& p, std::size_t frames, T tolerance) {
+    const auto t = anima::make_motion_texture(c, frames, p);
+    check_well_formed(t.motion, frames);
+    REQUIRE(t.overlap_spans.size() >= 2);
+    const auto limits = anima::clip_speed_limits(c);
+    const auto speeds = anima::seam_speeds(t.motion, t.overlap_spans, limits);
+    CHECK(worst_joint(speeds) <= T(1) + tolerance);
+    CHECK(worst_root(speeds) <= T(1) + tolerance);
+    // The paper's rearrangement without the seam machinery jumps.
+    std::vector<std::pair<std::size_t, std::size_t>> jumps;
+    const auto naive = cut_and_paste(c, p.texton.m, frames, jumps);
+    REQUIRE(!jumps.empty());
+    CHECK(worst_joint(anima::seam_speeds(naive, jumps, limits)) > T(1.5));
+}
+
+TEST_CASE_TEMPLATE("texture: seams stay within the input's speeds; a cut-and-paste loop does not", T, float, double) {
+    SUBCASE("synthetic walk") {
+        anima::motion_texture_params<T> p;
+        p.texton.m = 80;
+        p.texton.overlap = 40;
+        check_seams_smooth(walker<T>(250, 37.3, 0.4), p, 1700, T(0.02));
+    }
+    SUBCASE("bundled CMU walk") {
+        const auto c = walk<T>();
+        check_seams_smooth(c, anima::motion_texture_params<T>{}, 1700, T(0.02));
+    }
+    SUBCASE("bundled run, shorter than 2m: fitted lengths") {
+        const auto c = run<T>();
+        anima::motion_texture_params<T> p;
+        p.texton = anima::fit_texton_lengths(p.texton, c.frames());
+        check_seams_smooth(c, p, 1700, T(0.02));
+    }
+}
+
+TEST_CASE_TEMPLATE("texture: the root keeps travelling instead of snapping back", T, float, double) {
+    const auto c = walker<T>(250, 37.3, 0.4);
+    anima::motion_texture_params<T> p;
+    p.texton.m = 80;
+    p.texton.overlap = 40;
+    const auto t = anima::make_motion_texture(c, 1200, p);
+    for (std::size_t k = 1; k < t.motion.frames(); ++k) REQUIRE(t.motion.root_position(k).z() > t.motion.root_position(k - 1).z());
+    const T per_frame = (c.root_position(c.frames() - 1).z() - c.root_position(0).z()) / T(c.frames() - 1);
+    const T travelled = t.motion.root_position(t.motion.frames() - 1).z() - t.motion.root_position(0).z();
+    CHECK(travelled == doctest::Approx(per_frame * T(t.motion.frames() - 1)).epsilon(0.05));
+
+    const auto w = walk<T>();
+    const auto tw = anima::make_motion_texture(w, 1700, anima::motion_texture_params<T>{});
+    const auto ground = [](Eigen::Matrix<T, 3, 1> v) {
+        v.y() = 0;
+        return v.norm();
+    };
+    const T input_rate = ground(w.root_position(w.frames() - 1) - w.root_position(0)) / T(w.frames() - 1);
+    const T texture_rate = ground(tw.motion.root_position(1699) - tw.motion.root_position(0)) / T(1699);
+    CHECK(texture_rate > T(0.5) * input_rate);
+}
+
+TEST_CASE_TEMPLATE("texture: a clip that turns keeps turning (heading alignment)", T, float, double) {
+    const double turn = 0.004;  // rad per frame, 1 rad over the clip
+    const auto c = walker<T>(250, 37.3, 0.2, turn);
+    anima::motion_texture_params<T> p;
+    p.texton.m = 80;
+    p.texton.overlap = 40;
+    const auto t = anima::make_motion_texture(c, 1200, p);
+    CHECK(static_cast<double>(t.texton.heading_turn) == doctest::Approx(turn * static_cast<double>(t.texton.motion.frames())).epsilon(0.1));
+    const Eigen::Matrix<T, 3, 1> up(0, 1, 0);
+    double total = 0;
+    for (std::size_t k = 1; k < t.motion.frames(); ++k) {
+        const double step = std::remainder(static_cast<double>(anima::twist_angle(t.motion.rotation(k, 0), up) -
+                                                               anima::twist_angle(t.motion.rotation(k - 1, 0), up)),
+                                           2 * anima::pi<double>);
+        REQUIRE(step > -0.01);  // never turns back
+        total += step;
+    }
+    CHECK(total == doctest::Approx(turn * 1199).epsilon(0.15));
+    const auto speeds = anima::seam_speeds(t.motion, t.overlap_spans, anima::clip_speed_limits(c));
+    CHECK(worst_joint(speeds) <= T(1.02));
+    CHECK(worst_root(speeds) <= T(1.02));
+
+    // Without alignment the figure turns back inside every overlap.
+    p.texton.align_heading = false;
+    const auto back = anima::make_motion_texture(c, 1200, p);
+    CHECK(back.texton.heading_turn == T(0));
+    const T net = anima::twist_angle(back.motion.rotation(back.motion.frames() - 1, 0), up) -
+                  anima::twist_angle(back.motion.rotation(0, 0), up);
+    CHECK(std::abs(static_cast<double>(net)) < 1.2);
+}
+
+TEST_CASE_TEMPLATE("texture: symmetric playback mixed in, reproducibly", T, float, double) {
+    const auto c = walk<T>();
+    anima::motion_texture_params<T> p;
+    p.mixing.symmetric = true;
+    p.mixing.probability = T(1);
+    p.mixing.playback.seed = 7;
+    const auto texton = anima::make_texton(c, p.texton);
+    const auto t = anima::patch_texton(texton, 2400, p);
+    check_well_formed(t.motion, 2400);
+    CHECK(t.passages > 0);
+    CHECK(!t.turns.empty());
+    const std::size_t L = texton.motion.frames();
+    for (std::size_t k = 1; k < t.stream.size(); ++k) {
+        const std::size_t a = t.stream[k - 1], b = t.stream[k];
+        REQUIRE((b == (a + 1) % L || a == b + 1));  // forwards around the loop, or backwards in a passage
+    }
+    for (std::size_t k : t.turns) REQUIRE(k < 2400);
+    const auto speeds = anima::seam_speeds(t.motion, t.overlap_spans, anima::clip_speed_limits(c));
+    CHECK(worst_joint(speeds) <= T(1.02));
+    CHECK(anima::patch_texton(texton, 2400, p).stream == t.stream);
+    p.mixing.playback.seed = 8;
+    CHECK(anima::patch_texton(texton, 2400, p).stream != t.stream);
+    p.mixing.probability = T(0);
+    const auto plain = anima::patch_texton(texton, 2400, p);
+    CHECK(plain.passages == 0);
+    for (std::size_t k = 0; k < plain.stream.size(); ++k) REQUIRE(plain.stream[k] == k % L);
+    p.mixing.probability = T(2);
+    CHECK(contains(invalid_argument_message([&] { (void)anima::patch_texton(texton, 10, p); }), "probability"));
+}
+
+TEST_CASE_TEMPLATE("texture: every option gives N well-formed frames", T, float, double) {
+    const auto c = walker<T>(250, 37.3, 0.4);
+    anima::motion_texture_params<T> base;
+    base.texton.m = 80;
+    base.texton.overlap = 40;
+    std::vector<anima::motion_texture_params<T>> variants(9, base);
+    variants[0].smoothing.poisson.form = anima::seam_smoothing_form::image;
+    variants[1].smoothing.poisson.solver = anima::poisson_method::dst;
+    variants[2].texton.blend.enabled = false;
+    variants[3].smoothing.enabled = false;
+    variants[4].texton.cut.cost.capacity = anima::seam_capacity::exponential;
+    variants[5].texton.cut.cost.capacity = anima::seam_capacity::plain;
+    variants[6].texton.cut.neighbour_weight = T(0);
+    variants[7].root = anima::root_path::in_place;
+    variants[8].smoothing.poisson.radius = 3;
+    for (const auto& p : variants) {
+        const auto t = anima::make_motion_texture(c, 900, p);
+        check_well_formed(t.motion, 900);
+        const auto speeds = anima::seam_speeds(t.motion, t.overlap_spans, anima::clip_speed_limits(c));
+        // Fades alone (no Poisson) may speed a joint up a little.
+        CHECK(worst_joint(speeds) <= T(p.smoothing.enabled ? 1.05 : 1.5));
+    }
+    // A hard cut with Poisson smoothing: the jump is spread, not shown.
+    const auto hard = anima::make_motion_texture(c, 900, variants[2]);
+    CHECK(hard.texton.blend_frames == 0);
+    CHECK(worst_joint(anima::seam_speeds(hard.motion, hard.overlap_spans, anima::clip_speed_limits(c))) <= T(1.05));
+}
+
+TEST_CASE_TEMPLATE("seam speeds: limits and ratios by hand", T, float, double) {
+    anima::clip<T> c(figure<T>(), 4, T(0.5));
+    for (std::size_t f = 0; f < 4; ++f) {
+        c.set_rotation(f, 2, Eigen::Quaternion<T>(Eigen::AngleAxis<T>(T(0.1) * T(f * f), Eigen::Matrix<T, 3, 1>::UnitX())));
+        c.set_root_position(f, Eigen::Matrix<T, 3, 1>(T(f), 0, 0));
+    }
+    const auto limits = anima::clip_speed_limits(c);
+    CHECK(limits.joint[2] == doctest::Approx(0.5 / 0.5));  // 0.9 - 0.4 rad in 0.5 s
+    CHECK(limits.joint[1] == 0);
+    CHECK(limits.root == doctest::Approx(2));
+    const auto s = anima::seam_speeds(c, {{1, 1}}, limits);
+    REQUIRE(s.size() == 1);
+    CHECK(s[0].joint_ratio == doctest::Approx(0.6));  // steps 0->1, 1->2: 0.3 rad / 0.5 s of the 1 rad/s limit
+    CHECK(s[0].worst_joint == 2);
+    CHECK(s[0].root_ratio == doctest::Approx(1));
+    CHECK(s[0].within());
+    CHECK(contains(invalid_argument_message([&] { (void)anima::seam_speeds(c, {{2, 4}}, limits); }), "[2, 4]"));
+    anima::speed_limits<T> wrong;
+    CHECK(contains(invalid_argument_message([&] { (void)anima::seam_speeds(c, {{0, 1}}, wrong); }), "limits for 0 joints"));
+}
+
+}  // namespace
