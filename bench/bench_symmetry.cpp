@@ -111,7 +111,9 @@ anima::symmetry_result<double> full_matrix_route(const matrix& dofs, double fram
     }
     for (Eigen::Index i = 0; i < n; ++i)
         if (out.pairs[static_cast<std::size_t>(i)] > 0) out.score[i] = largest > 0 ? 1 - out.weighted_distance[i] / largest : 1;
-    out.candidates = anima::turning_candidates(out.score, out.pairs, p.radius);
+    // Candidates need a full window, as symmetry_scores' default min_pairs.
+    const int full = static_cast<int>(std::min<Eigen::Index>(p.radius, std::max<Eigen::Index>(0, (n - 1) / 2)));
+    out.candidates = anima::turning_candidates(out.score, out.pairs, p.radius, std::max(1, full));
     return out;
 }
 

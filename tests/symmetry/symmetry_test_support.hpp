@@ -1,6 +1,8 @@
 // Clips and small helpers shared by the symmetry tests.
 #pragma once
 
+#include "../test_support.hpp"
+
 #include <anima/bvh/reader.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
@@ -15,12 +17,15 @@
 
 namespace symmetry_test {
 
+using anima_test::bundled;
+using anima_test::contains;
+using anima_test::invalid_argument_message;
+using anima_test::tolerance;
+
 template <class T>
 using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
 template <class T>
 using vector = Eigen::Matrix<T, Eigen::Dynamic, 1>;
-
-inline std::string bundled(const std::string& name) { return std::string(ANIMA_TEST_DATA_DIR) + "/" + name; }
 
 // The bundled CMU-31 walk (02_01): 343 frames, no T-pose.
 template <class T>
@@ -38,24 +43,6 @@ const anima::clip<T>& run() {
         return full.slice(6, full.frames());
     }();
     return c;
-}
-
-template <class T>
-T tolerance(double for_double, double for_float) {
-    return static_cast<T>(std::is_same_v<T, double> ? for_double : for_float);
-}
-
-inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
-// The message of the anima::invalid_argument thrown by f ("" if none).
-template <class F>
-std::string invalid_argument_message(F&& f) {
-    try {
-        f();
-    } catch (const anima::invalid_argument& e) {
-        return e.what();
-    }
-    return "";
 }
 
 // first, first+1, ..., last, then back down to `back_to`, not repeating

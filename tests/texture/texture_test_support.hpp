@@ -1,6 +1,8 @@
 // Clips and helpers shared by the motion-texture tests.
 #pragma once
 
+#include "../test_support.hpp"
+
 #include <anima/bvh/reader.hpp>
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
@@ -19,28 +21,13 @@
 
 namespace texture_test {
 
+using anima_test::bundled;
+using anima_test::contains;
+using anima_test::invalid_argument_message;
+using anima_test::tolerance;
+
 template <class T>
 using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
-
-inline std::string bundled(const std::string& name) { return std::string(ANIMA_TEST_DATA_DIR) + "/" + name; }
-
-template <class T>
-T tolerance(double for_double, double for_float) {
-    return static_cast<T>(std::is_same_v<T, double> ? for_double : for_float);
-}
-
-inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
-// The message of the anima::invalid_argument thrown by f ("" if none).
-template <class F>
-std::string invalid_argument_message(F&& f) {
-    try {
-        f();
-    } catch (const anima::invalid_argument& e) {
-        return e.what();
-    }
-    return "";
-}
 
 // A small Y-up figure: hips (6 channels), spine and head, two legs.
 template <class T>

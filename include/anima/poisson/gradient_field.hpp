@@ -38,15 +38,7 @@ template <class T, class Derived>
 gradient_field<T> gradient(const poisson_grid<T>& g, const Eigen::MatrixBase<Derived>& u,
                            const boundary_values<T>& values = {}) {
     const std::string who = "anima::gradient";
-    detail::check_poisson_grid(g, who);
-    if (u.rows() != g.rows || u.cols() != g.cols)
-        throw invalid_argument(who + ": u is " + std::to_string(u.rows()) + " x " + std::to_string(u.cols()) +
-                               ", the grid " + std::to_string(g.rows) + " x " + std::to_string(g.cols));
-    detail::check_finite_matrix(u, who, "u");
-    detail::check_side(values.top, g.cols, g.top_bottom, who, "top");
-    detail::check_side(values.bottom, g.cols, g.top_bottom, who, "bottom");
-    detail::check_side(values.left, g.rows, g.left_right, who, "left");
-    detail::check_side(values.right, g.rows, g.left_right, who, "right");
+    detail::check_grid_function(g, u, values, who, "u", "u");
     const Eigen::Index ny = g.rows, nx = g.cols;
     const T ix = T(1) / g.hx, iy = T(1) / g.hy;
     gradient_field<T> out;

@@ -96,21 +96,29 @@ void check_side(const Eigen::Matrix<T, Eigen::Dynamic, 1>& v, Eigen::Index expec
             throw invalid_argument(who + ": boundary." + side + "[" + std::to_string(k) + "] is not finite");
 }
 
+/// A usable grid, a finite grid function `u` of its size (`described` in
+/// the size message, `name` in the finite one) and boundary values that fit.
+template <class T, class Derived>
+void check_grid_function(const poisson_grid<T>& g, const Eigen::MatrixBase<Derived>& u, const boundary_values<T>& values,
+                         const std::string& who, const char* described, const char* name) {
+    check_poisson_grid(g, who);
+    if (u.rows() != g.rows || u.cols() != g.cols)
+        throw invalid_argument(who + ": " + described + " is " + std::to_string(u.rows()) + " x " +
+                               std::to_string(u.cols()) + ", the grid " + std::to_string(g.rows) + " x " +
+                               std::to_string(g.cols));
+    check_finite_matrix(u, who, name);
+    check_side(values.top, g.cols, g.top_bottom, who, "top");
+    check_side(values.bottom, g.cols, g.top_bottom, who, "bottom");
+    check_side(values.left, g.rows, g.left_right, who, "left");
+    check_side(values.right, g.rows, g.left_right, who, "right");
+}
+
 /// Throws anima::invalid_argument naming `who` and the bad value unless the
 /// problem is well formed: a usable grid, sizes that match it, finite data.
 template <class T>
 void check_poisson_problem(const poisson_problem<T>& p, const std::string& who) {
-    check_poisson_grid(p.grid, who);
+    check_grid_function(p.grid, p.rhs, p.boundary, who, "the right-hand side", "rhs");
     const auto& g = p.grid;
-    if (p.rhs.rows() != g.rows || p.rhs.cols() != g.cols)
-        throw invalid_argument(who + ": the right-hand side is " + std::to_string(p.rhs.rows()) + " x " +
-                               std::to_string(p.rhs.cols()) + ", the grid " + std::to_string(g.rows) + " x " +
-                               std::to_string(g.cols));
-    check_finite_matrix(p.rhs, who, "rhs");
-    check_side(p.boundary.top, g.cols, g.top_bottom, who, "top");
-    check_side(p.boundary.bottom, g.cols, g.top_bottom, who, "bottom");
-    check_side(p.boundary.left, g.rows, g.left_right, who, "left");
-    check_side(p.boundary.right, g.rows, g.left_right, who, "right");
     if (p.fixed.size() != 0) {
         if (p.fixed.rows() != g.rows || p.fixed.cols() != g.cols)
             throw invalid_argument(who + ": the fixed values are " + std::to_string(p.fixed.rows()) + " x " +
