@@ -31,6 +31,7 @@
 #include <Eigen/Core>
 #include <unsupported/Eigen/AutoDiff>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <optional>
@@ -437,33 +438,42 @@ private:
         detail::flight_residuals(model, traj, settings_, r);
     }
 
-    template <class D>
-    void jacobian_with(const vector& x, bool full, vector& r, matrix& jac) const {
-        using ad = Eigen::AutoDiffScalar<D>;
+    /// Jacobian by forward-mode automatic differentiation, seeding
+    /// `width` parameters per pass. The derivative vectors have a
+    /// compile-time size so that every scalar, constants included, carries
+    /// one of the same length (Eigen's AutoDiffScalar cannot reconcile an
+    /// empty derivative inside an expression with a full one).
+    static constexpr int width = 16;
+
+    void jacobian(const vector& x, bool full, vector& r, matrix& jac) const {
+        using ad = Eigen::AutoDiffScalar<Eigen::Matrix<T, width, 1>>;
         const Eigen::Index n = x.size();
-        Eigen::Matrix<ad, Eigen::Dynamic, 1> xa(n);
-        for (Eigen::Index i = 0; i < n; ++i) xa[i] = ad(x[i], static_cast<int>(n), static_cast<int>(i));
         const auto model = model_.template cast<ad>();
-        Eigen::Matrix<ad, Eigen::Dynamic, 1> ra;
-        residuals_of(xa, full, model, ra);
-        r.resize(ra.size());
-        jac.resize(ra.size(), n);
-        for (Eigen::Index i = 0; i < ra.size(); ++i) {
-            r[i] = ra[i].value();
-            if (ra[i].derivatives().size() == n) jac.row(i) = ra[i].derivatives().transpose();
-            else jac.row(i).setZero();  // a residual that does not depend on x
+        Eigen::Matrix<ad, Eigen::Dynamic, 1> xa(n), ra;
+        for (Eigen::Index first = 0; first < n || first == 0; first += width) {
+            for (Eigen::Index i = 0; i < n; ++i) {
+                xa[i] = ad(x[i]);
+                if (i >= first && i < first + width) xa[i].derivatives()[i - first] = T(1);
+            }
+            residuals_of(xa, full, model, ra);
+            if (first == 0) {
+                r.resize(ra.size());
+                jac.resize(ra.size(), n);
+                for (Eigen::Index k = 0; k < ra.size(); ++k) r[k] = ra[k].value();
+            }
+            const Eigen::Index cols = std::min<Eigen::Index>(width, n - first);
+            for (Eigen::Index k = 0; k < ra.size(); ++k)
+                for (Eigen::Index c = 0; c < cols; ++c) jac(k, first + c) = ra[k].derivatives()[c];
+            if (n == 0) break;
         }
     }
 
-    void evaluate(const vector& x, vector& r, matrix* jacobian, bool full) const {
-        if (!jacobian) {
+    void evaluate(const vector& x, vector& r, matrix* jacobian_out, bool full) const {
+        if (!jacobian_out) {
             residuals_of(x, full, model_, r);
             return;
         }
-        if (x.size() <= 32)
-            jacobian_with<Eigen::Matrix<T, Eigen::Dynamic, 1, 0, 32, 1>>(x, full, r, *jacobian);
-        else
-            jacobian_with<Eigen::Matrix<T, Eigen::Dynamic, 1>>(x, full, r, *jacobian);
+        jacobian(x, full, r, *jacobian_out);
     }
 
     rigid_body_model<T> model_;
