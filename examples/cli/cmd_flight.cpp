@@ -1,0 +1,449 @@
+// anima flight KEYS.json | --example somersault: the spacetime flight
+// objective T^-1 * integral of sum F_i^2 (F1..F6 the root's generalised
+// forces). Model (2) moves the key times, model (1) also the key poses within
+// tolerances. Writes the motion (-o), a plot of the key times before and
+// after (--plot, the paper's Fig 7) and the figures (--json).
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <anima/flight.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace anima_cli {
+namespace {
+
+struct flight_options {
+    std::string keys_path, example, output, plot;
+    int model = 2, iterations = 100, quadrature = 4;
+    double body_mass = 70;
+    bool json = false, progress = false;
+};
+
+/// The CMU 31-joint skeleton (hierarchy of examples/data/walk_cmu31_02_01.bvh,
+/// CMU motion capture database, subject 02), so that --example runs anywhere.
+const char* const cmu31_hierarchy = R"BVH(HIERARCHY
+ROOT Hips
+{
+ OFFSET 0.000000 0.000000 0.000000
+ CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation
+ JOINT LHipJoint
+ {
+  OFFSET 0.000000 0.000000 0.000000
+  CHANNELS 3 Zrotation Yrotation Xrotation
+  JOINT LeftUpLeg
+  {
+   OFFSET 1.363060 -1.794630 0.839290
+   CHANNELS 3 Zrotation Yrotation Xrotation
+   JOINT LeftLeg
+   {
+    OFFSET 2.448110 -6.726130 0.000000
+    CHANNELS 3 Zrotation Yrotation Xrotation
+    JOINT LeftFoot
+    {
+     OFFSET 2.562200 -7.039590 0.000000
+     CHANNELS 3 Zrotation Yrotation Xrotation
+     JOINT LeftToeBase
+     {
+      OFFSET 0.157640 -0.433110 2.322550
+      CHANNELS 3 Zrotation Yrotation Xrotation
+      End Site
+      {
+       OFFSET 0.000000 0.000000 0.000000
+      }
+     }
+    }
+   }
+  }
+ }
+ JOINT RHipJoint
+ {
+  OFFSET 0.000000 0.000000 0.000000
+  CHANNELS 3 Zrotation Yrotation Xrotation
+  JOINT RightUpLeg
+  {
+   OFFSET -1.305520 -1.794630 0.839290
+   CHANNELS 3 Zrotation Yrotation Xrotation
+   JOINT RightLeg
+   {
+    OFFSET -2.542530 -6.985550 0.000000
+    CHANNELS 3 Zrotation Yrotation Xrotation
+    JOINT RightFoot
+    {
+     OFFSET -2.568260 -7.056230 0.000000
+     CHANNELS 3 Zrotation Yrotation Xrotation
+     JOINT RightToeBase
+     {
+      OFFSET -0.164730 -0.452590 2.363150
+      CHANNELS 3 Zrotation Yrotation Xrotation
+      End Site
+      {
+       OFFSET 0.000000 0.000000 0.000000
+      }
+     }
+    }
+   }
+  }
+ }
+ JOINT LowerBack
+ {
+  OFFSET 0.000000 0.000000 0.000000
+  CHANNELS 3 Zrotation Yrotation Xrotation
+  JOINT Spine
+  {
+   OFFSET 0.028270 2.035590 -0.193380
+   CHANNELS 3 Zrotation Yrotation Xrotation
+   JOINT Spine1
+   {
+    OFFSET 0.056720 2.048850 -0.042750
+    CHANNELS 3 Zrotation Yrotation Xrotation
+    JOINT Neck
+    {
+     OFFSET 0.000000 0.000000 0.000000
+     CHANNELS 3 Zrotation Yrotation Xrotation
+     JOINT Neck1
+     {
+      OFFSET -0.054170 1.746240 0.172020
+      CHANNELS 3 Zrotation Yrotation Xrotation
+      JOINT Head
+      {
+       OFFSET 0.104070 1.761360 -0.123970
+       CHANNELS 3 Zrotation Yrotation Xrotation
+       End Site
+       {
+        OFFSET 0.000000 0.000000 0.000000
+       }
+      }
+     }
+    }
+    JOINT LeftShoulder
+    {
+     OFFSET 0.000000 0.000000 0.000000
+     CHANNELS 3 Zrotation Yrotation Xrotation
+     JOINT LeftArm
+     {
+      OFFSET 3.362410 1.200890 -0.311210
+      CHANNELS 3 Zrotation Yrotation Xrotation
+      JOINT LeftForeArm
+      {
+       OFFSET 4.983000 -0.000000 -0.000000
+       CHANNELS 3 Zrotation Yrotation Xrotation
+       JOINT LeftHand
+       {
+        OFFSET 3.483560 -0.000000 -0.000000
+        CHANNELS 3 Zrotation Yrotation Xrotation
+        JOINT LeftFingerBase
+        {
+         OFFSET 0.000000 0.000000 0.000000
+         CHANNELS 3 Zrotation Yrotation Xrotation
+         JOINT LeftHandIndex1
+         {
+          OFFSET 0.715260 -0.000000 -0.000000
+          CHANNELS 3 Zrotation Yrotation Xrotation
+          End Site
+          {
+           OFFSET 0.000000 0.000000 0.000000
+          }
+         }
+        }
+        JOINT LThumb
+        {
+         OFFSET 0.000000 0.000000 0.000000
+         CHANNELS 3 Zrotation Yrotation Xrotation
+         End Site
+         {
+          OFFSET 0.000000 0.000000 0.000000
+         }
+        }
+       }
+      }
+     }
+    }
+    JOINT RightShoulder
+    {
+     OFFSET 0.000000 0.000000 0.000000
+     CHANNELS 3 Zrotation Yrotation Xrotation
+     JOINT RightArm
+     {
+      OFFSET -3.136600 1.374050 -0.404650
+      CHANNELS 3 Zrotation Yrotation Xrotation
+      JOINT RightForeArm
+      {
+       OFFSET -5.241900 -0.000000 -0.000000
+       CHANNELS 3 Zrotation Yrotation Xrotation
+       JOINT RightHand
+       {
+        OFFSET -3.444170 -0.000000 -0.000000
+        CHANNELS 3 Zrotation Yrotation Xrotation
+        JOINT RightFingerBase
+        {
+         OFFSET 0.000000 0.000000 0.000000
+         CHANNELS 3 Zrotation Yrotation Xrotation
+         JOINT RightHandIndex1
+         {
+          OFFSET -0.622530 -0.000000 -0.000000
+          CHANNELS 3 Zrotation Yrotation Xrotation
+          End Site
+          {
+           OFFSET 0.000000 0.000000 0.000000
+          }
+         }
+        }
+        JOINT RThumb
+        {
+         OFFSET 0.000000 0.000000 0.000000
+         CHANNELS 3 Zrotation Yrotation Xrotation
+         End Site
+         {
+          OFFSET 0.000000 0.000000 0.000000
+         }
+        }
+       }
+      }
+     }
+    }
+   }
+  }
+ }
+}
+MOTION
+Frames: 1
+Frame Time: 0.008333
+0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0
+)BVH";
+
+/// A key set with everything needed to build the problem.
+struct flight_input {
+    skeleton_t skeleton;
+    anima::rigid_body_model<double> model;
+    anima::flight_keys<double> keys;
+    anima::flight_settings<double> settings;
+    double metres_per_unit = 1;
+    std::string name;
+};
+
+vec3 json_vec3(const json& v, const std::string& where) {
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+        throw failure(where + ": expected an array of 3 numbers");
+    return vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+}
+
+flight_input load_keys(const std::string& path, const flight_options& o) {
+    json doc;
+    try {
+        doc = json::parse(read_text_file(path));
+    } catch (const json::parse_error& e) {
+        throw failure(path + ": not valid JSON: " + e.what());
+    }
+    const auto need = [&](const char* key) -> const json& {
+        if (!doc.contains(key)) throw failure(path + ": missing \"" + std::string(key) + "\"");
+        return doc[key];
+    };
+    flight_input in;
+    std::string bvh = need("skeleton").get<std::string>();
+    const auto slash = path.find_last_of('/');
+    if (!bvh.empty() && bvh[0] != '/' && slash != std::string::npos) bvh = path.substr(0, slash + 1) + bvh;
+    in.skeleton = load_clip(bvh).skeleton();
+    anima::body_model_params<double> bp;
+    bp.body_mass = doc.value("body_mass", o.body_mass);
+    const std::string sex = doc.value("sex", std::string("male"));
+    if (sex != "male" && sex != "female") throw failure(path + ": \"sex\" must be \"male\" or \"female\", got \"" + sex + "\"");
+    bp.sex = sex == "male" ? anima::sex::male : anima::sex::female;
+    bp.metres_per_unit = doc.value("metres_per_unit", 0.0);
+    in.model = anima::make_body_model(in.skeleton, bp);
+    in.metres_per_unit = bp.metres_per_unit > 0 ? bp.metres_per_unit : anima::default_metres_per_unit(in.skeleton);
+    if (doc.contains("gravity")) in.settings.gravity = json_vec3(doc["gravity"], path + ": \"gravity\"");
+    if (doc.contains("ballistic")) {
+        anima::ballistic_path<double> b;
+        b.start = json_vec3(doc["ballistic"].value("start", json::array({0, 0, 0})), path + ": \"ballistic.start\"");
+        b.velocity = json_vec3(doc["ballistic"].value("velocity", json::array({0, 0, 0})), path + ": \"ballistic.velocity\"");
+        in.settings.ballistic = b;
+    }
+    in.settings.root_tolerance = doc.value("root_tolerance", in.settings.root_tolerance);
+    in.settings.joint_tolerance = doc.value("joint_tolerance", in.settings.joint_tolerance);
+    const json& keys = need("keys");
+    if (!keys.is_array()) throw failure(path + ": \"keys\" must be an array");
+    for (std::size_t k = 0; k < keys.size(); ++k) {
+        const std::string where = path + ": keys[" + std::to_string(k) + "]";
+        const json& key = keys[k];
+        if (!key.contains("time") || !key["time"].is_number()) throw failure(where + ": missing number \"time\"");
+        in.keys.times.push_back(key["time"].get<double>());
+        in.keys.root_positions.push_back(key.contains("root_position")
+                                             ? json_vec3(key["root_position"], where + ".root_position")
+                                             : vec3::Zero());
+        std::vector<Eigen::Quaterniond> rot(in.skeleton.size(), Eigen::Quaterniond::Identity());
+        if (key.contains("rotations")) {
+            for (const auto& item : key["rotations"].items()) {
+                const std::string w = where + ".rotations." + item.key();
+                const auto j = in.skeleton.find(item.key());
+                if (!j) throw failure(w + ": the skeleton has no joint of that name");
+                const json& r = item.value();
+                if (r.contains("quaternion")) {
+                    const json& q = r["quaternion"];
+                    if (!q.is_array() || q.size() != 4) throw failure(w + ": \"quaternion\" must be [w, x, y, z]");
+                    rot[*j] = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
+                                                 q[3].get<double>());
+                } else if (r.contains("euler_degrees")) {
+                    const vec3 a = json_vec3(r["euler_degrees"], w + ".euler_degrees");
+                    const auto order = anima::parse_euler_order(r.value("order", std::string("ZXY")));
+                    rot[*j] = anima::from_euler<Eigen::Quaterniond>(anima::radians(a[0]), anima::radians(a[1]),
+                                                                    anima::radians(a[2]), order);
+                } else {
+                    throw failure(w + ": give \"quaternion\" or \"euler_degrees\"");
+                }
+            }
+        }
+        in.keys.rotations.push_back(std::move(rot));
+    }
+    in.name = file_name(path);
+    return in;
+}
+
+flight_input somersault_input(const flight_options& o) {
+    flight_input in;
+    in.skeleton = anima::parse_bvh<double>(cmu31_hierarchy, "cmu31_hierarchy").skeleton();
+    anima::body_model_params<double> bp;
+    bp.body_mass = o.body_mass;
+    in.model = anima::make_body_model(in.skeleton, bp);
+    in.metres_per_unit = anima::default_metres_per_unit(in.skeleton);
+    in.keys = anima::somersault_keys(in.skeleton);
+    in.settings = anima::somersault_settings<double>();
+    in.name = "somersault";
+    return in;
+}
+
+/// Fig 7: key index against key time, initial (down triangles) and
+/// optimised (up triangles).
+void write_plot(const std::string& path, const std::vector<double>& before, const std::vector<double>& after,
+                const std::string& title) {
+    const double w = 640, h = 400, left = 60, right = 20, top = 40, bottom = 50;
+    svg_document svg(w, h, title);
+    svg.rect(0, 0, w, h, "#ffffff");
+    const double t_max = std::max(before.back(), after.back());
+    const auto n = static_cast<double>(before.size());
+    const auto x_of = [&](double k) { return left + (w - left - right) * k / (n - 1); };
+    const auto y_of = [&](double t) { return h - bottom - (h - top - bottom) * t / t_max; };
+    svg.line(left, h - bottom, w - right, h - bottom, "#444", 1);
+    svg.line(left, top, left, h - bottom, "#444", 1);
+    for (int s = 0; s <= 4; ++s) {
+        const double t = t_max * s / 4;
+        svg.line(left - 4, y_of(t), w - right, y_of(t), "#e4e4e4", 1);
+        svg.text(left - 8, y_of(t) + 4, format_number(t, 3), 11, "#444", "end");
+    }
+    for (std::size_t k = 0; k < before.size(); ++k)
+        svg.text(x_of(static_cast<double>(k)), h - bottom + 16, std::to_string(k + 1), 11, "#444", "middle");
+    svg.text(w / 2, h - 12, "key frame", 12, "#222", "middle");
+    svg.text(16, top - 14, "time (s)", 12, "#222", "start");
+    svg.text(w / 2, 22, title, 14, "#222", "middle", true);
+    const auto triangle = [&](double x, double y, bool up, const char* colour) {
+        const double s = 6;
+        const double tip = up ? y - s : y + s, base = up ? y + s * 0.6 : y - s * 0.6;
+        svg.raw("<polygon points=\"" + svg_number(x - s) + "," + svg_number(base) + " " + svg_number(x + s) + "," +
+                svg_number(base) + " " + svg_number(x) + "," + svg_number(tip) + "\" fill=\"" + colour + "\"/>");
+    };
+    for (std::size_t k = 0; k < before.size(); ++k) {
+        triangle(x_of(static_cast<double>(k)), y_of(before[k]), false, "#999999");
+        triangle(x_of(static_cast<double>(k)), y_of(after[k]), true, "#c0392b");
+    }
+    triangle(left + 20, top + 6, false, "#999999");
+    svg.text(left + 32, top + 10, "initial timing", 12);
+    triangle(left + 150, top + 6, true, "#c0392b");
+    svg.text(left + 162, top + 10, "optimised timing", 12);
+    write_text_file(path, svg.str());
+}
+
+void run_flight(const flight_options& o) {
+    if (o.keys_path.empty() == o.example.empty())
+        throw CLI::ValidationError("flight", "give either KEYS.json or --example somersault");
+    auto in = o.example.empty() ? load_keys(o.keys_path, o) : somersault_input(o);
+    in.settings.quadrature_points = o.quadrature;
+    const anima::flight_problem<double> problem(in.model, in.keys, in.settings);
+    anima::flight_optimization_params<double> params;
+    params.model = o.model == 1 ? anima::flight_model::timing_and_poses : anima::flight_model::timing;
+    params.solver.max_iterations = o.iterations;
+    params.solver.on_iteration = [&](int iteration, double value) {
+        if (o.progress) std::cerr << "anima: flight: iteration " << iteration << ": objective " << format_number(2 * value, 6) << "\n";
+        return true;
+    };
+    if (o.progress || o.model == 1)
+        std::cerr << "anima: flight: model (" << o.model << "), " << problem.key_count() << " keys, "
+                  << (o.model == 1 ? problem.full_size() : problem.timing_size()) << " parameters\n";
+    const auto r = anima::optimize_flight(problem, params);
+
+    if (!o.output.empty()) {
+        const auto c = anima::flight_clip(problem, r.optimized, in.skeleton, in.metres_per_unit, 1.0 / 60.0);
+        anima::write_bvh(c, o.output);
+    }
+    if (!o.plot.empty())
+        write_plot(o.plot, r.initial.times, r.optimized.times,
+                   "Key times of " + in.name + ": initial and optimised (model " + std::to_string(o.model) + ")");
+
+    if (o.json) {
+        json out;
+        out["input"] = in.name;
+        out["model"] = o.model;
+        out["objective_initial"] = r.objective_initial;
+        out["objective_final"] = r.objective_final;
+        out["key_times_initial"] = r.initial.times;
+        out["key_times_final"] = r.optimized.times;
+        out["momentum_drift_initial"] = r.momentum_drift_initial;
+        out["momentum_drift_final"] = r.momentum_drift_final;
+        out["iterations"] = r.iterations;
+        out["status"] = std::string(anima::to_string(r.status));
+        out["seconds"] = r.seconds;
+        out["objective_history"] = r.history;
+        print_json(out);
+        return;
+    }
+    std::cout << in.name << ": model (" << o.model << "), " << r.iterations << " iterations ("
+              << anima::to_string(r.status) << "), " << format_number(r.seconds, 3) << " s\n";
+    std::cout << "  objective T^-1 int sum F^2: " << format_number(r.objective_initial) << " -> "
+              << format_number(r.objective_final) << "\n";
+    std::cout << "  angular momentum drift about the centre of mass: " << format_number(r.momentum_drift_initial, 3)
+              << " -> " << format_number(r.momentum_drift_final, 3) << "\n";
+    std::cout << "  key  time before  time after\n";
+    for (std::size_t k = 0; k < r.initial.times.size(); ++k)
+        std::cout << "  " << k + 1 << (k + 1 < 10 ? "    " : "   ") << format_fixed(r.initial.times[k], 3) << "        "
+                  << format_fixed(r.optimized.times[k], 3) << "\n";
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_flight(CLI::App& app) {
+    using namespace anima_cli;
+    auto opts = std::make_shared<flight_options>();
+    CLI::App* sub = app.add_subcommand(
+        "flight", "Optimise the key times (and poses) of a motion in flight: minimise T^-1 int sum F_i^2 over the root's "
+                  "generalised forces");
+    sub->add_option("KEYS", opts->keys_path, "Key set (JSON, see docs/flight.md)")->type_name("KEYS.json");
+    sub->add_option("--example", opts->example, "A built-in key set instead of KEYS.json")
+        ->check(CLI::IsMember({"somersault"}));
+    sub->add_option("--model", opts->model, "1: key times and poses within tolerances; 2: key times only")
+        ->check(CLI::IsMember({1, 2}))
+        ->capture_default_str();
+    sub->add_option("--iterations", opts->iterations, "Most Levenberg-Marquardt iterations")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    sub->add_option("--quadrature", opts->quadrature, "Gauss-Legendre points per key interval (1..5)")
+        ->check(CLI::Range(1, 5))
+        ->capture_default_str();
+    sub->add_option("--body-mass", opts->body_mass, "Body mass in kg (when KEYS.json does not give one)")
+        ->check(CLI::Range(1.0, 1000.0))
+        ->capture_default_str();
+    sub->add_option("-o,--output", opts->output, "Write the optimised motion (60 frames/s) to this BVH file")
+        ->type_name("OUT.bvh");
+    sub->add_option("--plot", opts->plot, "Plot initial and optimised key times (SVG)")->type_name("OUT.svg");
+    sub->add_flag("--progress", opts->progress, "Report every iteration on stderr");
+    sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
+    sub->callback([opts] { run_flight(*opts); });
+}
