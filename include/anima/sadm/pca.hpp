@@ -94,9 +94,12 @@ public:
             values = eig.eigenvalues().reverse();
             basis = eig.eigenvectors().rowwise().reverse();
         }
-        // Numerically zero directions carry no information: drop them.
+        // Numerically zero directions carry no information: drop them. The
+        // rounding level follows the data's magnitude, not only the largest
+        // eigenvalue, so nearly identical samples give no components.
         const T largest = values.size() ? std::max(values(0), T(0)) : T(0);
-        const T floor = largest * static_cast<T>(std::max(n, d)) * Eigen::NumTraits<T>::epsilon();
+        const T magnitude = std::max(largest, static_cast<T>(samples.template cast<T>().squaredNorm() / static_cast<T>(n)));
+        const T floor = magnitude * static_cast<T>(std::max(n, d)) * Eigen::NumTraits<T>::epsilon();
         Eigen::Index rank = 0;
         while (rank < values.size() && values(rank) > floor && values(rank) > T(0)) ++rank;
         out.total_variance_ = centred.squaredNorm() / denom;
