@@ -9,6 +9,7 @@
 #include <anima/core/version.hpp>
 #include <anima/maxflow.hpp>
 #include <anima/motion.hpp>
+#include <anima/optimize.hpp>
 #include <anima/poisson.hpp>
 #include <anima/rotation.hpp>
 #include <anima/sadm.hpp>

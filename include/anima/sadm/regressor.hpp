@@ -8,6 +8,7 @@
 #include <anima/sadm/linear_regressor.hpp>
 #include <anima/sadm/polynomial_regressor.hpp>
 #include <anima/sadm/regressor_base.hpp>
+#include <anima/sadm/svr_regressor.hpp>
 
 #include <istream>
 #include <memory>
@@ -23,8 +24,8 @@ std::unique_ptr<regressor<T>> make_regressor(regressor_kind kind, const regresso
     switch (kind) {
         case regressor_kind::linear: return std::make_unique<linear_regressor<T>>(options.linear);
         case regressor_kind::poly2: return std::make_unique<polynomial_regressor<T>>(options.poly2);
-        case regressor_kind::mlp:
-        case regressor_kind::svr: break;
+        case regressor_kind::svr: return std::make_unique<svr_regressor<T>>(options.svr, options.progress);
+        case regressor_kind::mlp: break;
     }
     throw invalid_argument("anima::make_regressor: regressor '" + std::string(to_string(kind)) +
                            "' is not available in this version");
@@ -50,8 +51,8 @@ std::unique_ptr<regressor<T>> load_regressor(std::istream& in, const std::string
             return std::make_unique<linear_regressor<T>>(linear_regressor<T>::read_body(reader));
         case regressor_kind::poly2:
             return std::make_unique<polynomial_regressor<T>>(polynomial_regressor<T>::read_body(reader));
-        case regressor_kind::mlp:
-        case regressor_kind::svr: break;
+        case regressor_kind::svr: return std::make_unique<svr_regressor<T>>(svr_regressor<T>::read_body(reader));
+        case regressor_kind::mlp: break;
     }
     reader.fail("regressor kind '" + header[1] + "' is not available in this version");
 }

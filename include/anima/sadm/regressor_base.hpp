@@ -6,6 +6,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/optimize/result.hpp>  // matrix_x
 #include <anima/sadm/detail/regress_io.hpp>
 
 #include <Eigen/Core>
@@ -20,12 +21,6 @@
 #include <vector>
 
 namespace anima {
-
-#ifndef ANIMA_MATRIX_X_DEFINED
-#define ANIMA_MATRIX_X_DEFINED
-template <class T>
-using matrix_x = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
-#endif
 
 /// The four mappings of the paper's Table 1.
 enum class regressor_kind : unsigned char { linear, poly2, mlp, svr };
