@@ -23,3 +23,4 @@ void register_smooth(CLI::App& app);
 void register_maxflow(CLI::App& app);
 void register_texture(CLI::App& app);
 void register_flight(CLI::App& app);
+void register_sadm(CLI::App& app);

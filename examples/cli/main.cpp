@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
     register_maxflow(app);
     register_texture(app);
     register_flight(app);
+    register_sadm(app);
     // Keep after the last register_*: subcommands created later would copy it
     // into their own --help.
     app.footer("Run 'anima SUBCOMMAND --help' for the options of a subcommand.");

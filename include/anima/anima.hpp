@@ -13,6 +13,7 @@
 #include <anima/optimize.hpp>
 #include <anima/poisson.hpp>
 #include <anima/rotation.hpp>
+#include <anima/sadm.hpp>
 #include <anima/symmetry.hpp>
 #include <anima/texture.hpp>
 #include <anima/transition.hpp>

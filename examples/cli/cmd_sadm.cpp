@@ -1,0 +1,357 @@
+// anima sadm train|eval|synth: shape-appearance dependence mapping.
+//   train DIR --out MODEL   builds the shape and grey-level models and the
+//                           b_s -> b_g regressor from DIR/images + DIR/points;
+//   eval MODEL DIR          per-component NCC (Table 1) and PSNR (Eq 7,
+//                           Table 2 with --noise) on DIR's frames;
+//   synth MODEL LANDMARKS   a face for a landmark file, optionally pasted
+//                           into a neutral frame with Poisson blending.
+// DIR is laid out as ../shared/data/face: images/NAME.{jpg,png,pgm,ppm} and
+// points/NAME.pts, frames taken in name order. JPEG and PNG need stb.
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <anima/image.hpp>
+#include <anima/sadm.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#if defined(ANIMA_HAVE_STB) && __has_include(<stb_image.h>)
+#define ANIMA_HAVE_STB_IMAGE 1
+// The decoder's implementation lives here, static: no other file needs it.
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#define STBI_ONLY_JPEG
+#define STBI_ONLY_PNG
+#include <stb_image.h>
+#endif
+
+namespace anima_cli {
+namespace {
+
+using grey = anima::grey_image<double>;
+using landmarks_t = anima::landmark_set<double>;
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+/// Grey levels 0-255 of a PGM/PPM (library) or JPEG/PNG (stb) file.
+grey load_grey(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (ext == ".pgm" || ext == ".ppm" || ext == ".pnm") return anima::read_grey_pnm<double>(path);
+    if (ext != ".jpg" && ext != ".jpeg" && ext != ".png")
+        throw failure("'" + path + "': unknown image type; use .pgm, .ppm, .jpg or .png");
+#ifdef ANIMA_HAVE_STB_IMAGE
+    int w = 0, h = 0, channels = 0;
+    unsigned char* px = stbi_load(path.c_str(), &w, &h, &channels, 1);
+    if (!px) throw failure("cannot read '" + path + "': " + stbi_failure_reason());
+    grey g(h, w);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) g(y, x) = px[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+    stbi_image_free(px);
+    return g;
+#else
+    throw failure("'" + path + "': this anima was built without stb_image.h, so it reads only PGM/PPM images");
+#endif
+}
+
+/// Writes grey levels as PGM (library), PNG or JPEG (stb), by extension.
+void save_grey(const std::string& path, const grey& g, std::string_view what_for) {
+    const std::string ext = lower_extension(path);
+    if (ext == ".pgm") {
+        anima::write_pgm(path, g);
+        return;
+    }
+    if (ext != ".png") throw failure(std::string(what_for) + ": '" + path + "': write .pgm or .png");
+    write_png(path, static_cast<int>(g.cols()), static_cast<int>(g.rows()), 1, anima::to_bytes(g, std::string(what_for)),
+              what_for);
+}
+
+struct frame_set {
+    std::vector<std::string> names;
+    std::vector<grey> images;
+    std::vector<landmarks_t> landmarks;
+};
+
+/// Which frames of a sorted directory a command uses.
+struct split_options {
+    std::string hold_out;  // "", "every:N" or "last:N"
+};
+
+/// Frame k of `count` is held out (a test frame) under the split.
+std::vector<bool> held_out(const std::string& spec, std::size_t count) {
+    std::vector<bool> out(count, false);
+    if (spec.empty()) return out;
+    const auto colon = spec.find(':');
+    const std::string kind = spec.substr(0, colon);
+    std::size_t n = 0;
+    try {
+        n = colon == std::string::npos ? 0 : std::stoul(spec.substr(colon + 1));
+    } catch (const std::exception&) {
+        n = 0;
+    }
+    if ((kind != "every" && kind != "last") || n == 0)
+        throw CLI::ValidationError("--hold-out", "'" + spec + "': use every:N (every Nth frame) or last:N (the last N frames)");
+    for (std::size_t k = 0; k < count; ++k) out[k] = kind == "every" ? k % n == n - 1 : k + n >= count;
+    return out;
+}
+
+/// The frames of DIR (images/NAME.* with points/NAME.pts) in name order;
+/// `test` picks the held-out ones, otherwise the others.
+frame_set load_frames(const std::string& dir, const std::string& hold_out, bool test, bool progress) {
+    const std::filesystem::path points = std::filesystem::path(dir) / "points", images = std::filesystem::path(dir) / "images";
+    if (!std::filesystem::is_directory(points) || !std::filesystem::is_directory(images))
+        throw failure("'" + dir + "' needs the folders images/ and points/ (NAME.jpg|png|pgm with NAME.pts)");
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(points))
+        if (e.path().extension() == ".pts") names.push_back(e.path().stem().string());
+    std::sort(names.begin(), names.end());
+    if (names.empty()) throw failure("'" + points.string() + "' holds no .pts file");
+    const std::vector<bool> held = held_out(hold_out, names.size());
+    frame_set out;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+        if (held[k] != test && !hold_out.empty()) continue;
+        std::string image;
+        for (const char* ext : {".jpg", ".png", ".pgm", ".ppm", ".jpeg"})
+            if (std::filesystem::exists(images / (names[k] + ext))) {
+                image = (images / (names[k] + ext)).string();
+                break;
+            }
+        if (image.empty()) throw failure("no image for '" + names[k] + ".pts' in '" + images.string() + "'");
+        out.names.push_back(names[k]);
+        out.images.push_back(load_grey(image));
+        out.landmarks.push_back(anima::read_pts<double>((points / (names[k] + ".pts")).string()));
+        if (progress && (out.images.size() % 50 == 0)) std::cerr << "anima: read " << out.images.size() << " frames\n";
+    }
+    if (out.images.size() < 2) throw failure("'" + dir + "': fewer than 2 frames selected");
+    return out;
+}
+
+anima::sadm_model<double> load_model(const std::string& path) {
+    const std::string text = read_text_file(path);
+    std::istringstream in(text);
+    return anima::sadm_model<double>::load(in, path);
+}
+
+// ---------------------------------------------------------------------------
+// train
+// ---------------------------------------------------------------------------
+
+struct train_options {
+    std::string dir, output, regressor = "linear", hold_out;
+    double shape_variance = 0.98, grey_variance = 0.95;
+    int grey_components = 0;
+    bool json = false, progress = false;
+};
+
+void run_train(const train_options& o) {
+    const auto start = std::chrono::steady_clock::now();
+    const frame_set frames = load_frames(o.dir, o.hold_out, false, o.progress);
+    anima::sadm_options<double> options;
+    options.mapping = anima::parse_regressor_kind(o.regressor);
+    options.shape.pca = {o.shape_variance, 0};
+    options.grey = {o.grey_variance, o.grey_components};
+    if (o.progress)
+        options.progress = [](const std::string& stage, int done, int total) {
+            if (done == total || done % 50 == 0) std::cerr << "anima: " << stage << " " << done << "/" << total << "\n";
+        };
+    const auto model = anima::sadm_model<double>::train(frames.images, frames.landmarks, options);
+    std::ofstream out(o.output, std::ios::binary);
+    model.save(out);
+    out.close();
+    if (!out) throw failure("cannot write '" + o.output + "'");
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (o.json) {
+        json j;
+        j["frames"] = frames.images.size();
+        j["regressor"] = o.regressor;
+        j["shape_parameters"] = model.shape().size();
+        j["grey_parameters"] = model.grey().size();
+        j["face_pixels"] = model.grey().raster().size();
+        j["seconds"] = seconds;
+        j["model"] = o.output;
+        print_json(j);
+        return;
+    }
+    std::cout << "trained on " << frames.images.size() << " frames (" << frames.names.front() << " .. "
+              << frames.names.back() << "): " << model.shape().size() << " shape parameters, " << model.grey().size()
+              << " grey parameters over " << model.grey().raster().size() << " face pixels, " << o.regressor
+              << " mapping, " << format_number(seconds, 3) << " s\nwrote " << o.output << '\n';
+}
+
+// ---------------------------------------------------------------------------
+// eval
+// ---------------------------------------------------------------------------
+
+struct eval_options {
+    std::string model, dir, hold_out, figure;
+    double noise = 0;
+    std::uint64_t seed = 1;
+    bool json = false, progress = false;
+};
+
+/// A strip for the docs: ground truth, synthesis, synthesis with noisy
+/// landmarks (rows) for up to 4 frames (columns), each cropped to the face.
+/// The synthesised face is Poisson-pasted into its own frame.
+void write_figure(const std::string& path, const anima::sadm_model<double>& model, const frame_set& f, double noise,
+                  std::uint64_t seed) {
+    require_png("--figure");
+    const std::size_t count = std::min<std::size_t>(4, f.images.size());
+    std::vector<std::size_t> picks;
+    for (std::size_t c = 0; c < count; ++c) picks.push_back(c * (f.images.size() - 1) / std::max<std::size_t>(1, count - 1));
+    anima::random_source rng(seed);
+    std::vector<std::vector<grey>> rows(3);
+    Eigen::Index w = 0, h = 0;
+    for (std::size_t k : picks) {
+        const auto& img = f.images[k];
+        const auto& lm = f.landmarks[k];
+        landmarks_t noisy = lm;
+        for (Eigen::Index p = 0; p < noisy.rows(); ++p)
+            for (int c = 0; c < 2; ++c) noisy(p, c) += noise * anima::detail::standard_normal(rng);
+        const Eigen::Index x0 = std::max<Eigen::Index>(0, static_cast<Eigen::Index>(lm.col(0).minCoeff()) - 8);
+        const Eigen::Index y0 = std::max<Eigen::Index>(0, static_cast<Eigen::Index>(lm.col(1).minCoeff()) - 8);
+        const Eigen::Index x1 = std::min<Eigen::Index>(img.cols(), static_cast<Eigen::Index>(lm.col(0).maxCoeff()) + 9);
+        const Eigen::Index y1 = std::min<Eigen::Index>(img.rows(), static_cast<Eigen::Index>(lm.col(1).maxCoeff()) + 9);
+        const grey a = model.synthesize(lm, img), b = model.synthesize(noisy, img);
+        rows[0].push_back(img.block(y0, x0, y1 - y0, x1 - x0));
+        rows[1].push_back(a.block(y0, x0, y1 - y0, x1 - x0));
+        rows[2].push_back(b.block(y0, x0, y1 - y0, x1 - x0));
+        w = std::max(w, x1 - x0);
+        h = std::max(h, y1 - y0);
+    }
+    const Eigen::Index gap = 4;
+    grey sheet = grey::Constant(3 * h + 2 * gap, static_cast<Eigen::Index>(picks.size()) * (w + gap) - gap, 255.0);
+    for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t c = 0; c < picks.size(); ++c) {
+            const grey& tile = rows[r][c];
+            sheet.block(static_cast<Eigen::Index>(r) * (h + gap), static_cast<Eigen::Index>(c) * (w + gap), tile.rows(), tile.cols()) = tile;
+        }
+    save_grey(path, sheet, "--figure");
+}
+
+void run_eval(const eval_options& o) {
+    const auto model = load_model(o.model);
+    const frame_set frames = load_frames(o.dir, o.hold_out, true, o.progress);
+    anima::sadm_evaluation_options<double> options;
+    options.noise = o.noise;
+    options.seed = o.seed;
+    if (o.progress)
+        options.progress = [](int done, int total) {
+            if (done == total || done % 50 == 0) std::cerr << "anima: evaluated " << done << "/" << total << " frames\n";
+        };
+    const auto r = anima::evaluate_sadm(model, frames.images, frames.landmarks, options);
+    if (!o.figure.empty()) write_figure(o.figure, model, frames, o.noise > 0 ? o.noise : 2.0, o.seed);
+    if (o.json) {
+        json j;
+        j["frames"] = frames.images.size();
+        j["regressor"] = std::string(anima::to_string(model.mapping().kind()));
+        j["noise"] = o.noise;
+        j["ncc"] = r.ncc;
+        j["psnr"] = r.psnr;
+        j["psnr_mean"] = r.psnr_mean;
+        j["psnr_model_mean"] = r.psnr_model_mean;
+        print_json(j);
+        return;
+    }
+    std::cout << frames.images.size() << " frames (" << frames.names.front() << " .. " << frames.names.back() << "), "
+              << anima::to_string(model.mapping().kind()) << " mapping, landmark noise " << format_number(o.noise)
+              << " px\n\n b_g   NCC\n";
+    for (std::size_t k = 0; k < r.ncc.size(); ++k)
+        std::cout << (k < 9 ? "   " : "  ") << k + 1 << "   " << format_fixed(r.ncc[k], 4) << '\n';
+    std::cout << "\nPSNR over the face: mean " << format_fixed(r.psnr_mean, 2) << " dB, min "
+              << format_fixed(*std::min_element(r.psnr.begin(), r.psnr.end()), 2) << ", max "
+              << format_fixed(*std::max_element(r.psnr.begin(), r.psnr.end()), 2) << " (grey model with the real b_g: "
+              << format_fixed(r.psnr_model_mean, 2) << " dB)\n";
+    if (!o.figure.empty()) std::cout << "wrote " << o.figure << ": ground truth, synthesis, synthesis with noise\n";
+}
+
+// ---------------------------------------------------------------------------
+// synth
+// ---------------------------------------------------------------------------
+
+struct synth_options {
+    std::string model, landmarks, output, neutral;
+};
+
+void run_synth(const synth_options& o) {
+    const auto model = load_model(o.model);
+    const landmarks_t lm = anima::read_pts<double>(o.landmarks);
+    grey out;
+    if (!o.neutral.empty()) {
+        out = model.synthesize(lm, load_grey(o.neutral));
+    } else {
+        if (lm.minCoeff() < 0) throw failure("'" + o.landmarks + "' has negative coordinates: give --neutral FRAME");
+        const auto rows = static_cast<Eigen::Index>(std::ceil(lm.col(1).maxCoeff())) + 2;
+        const auto cols = static_cast<Eigen::Index>(std::ceil(lm.col(0).maxCoeff())) + 2;
+        out = anima::paste_face(grey(grey::Zero(rows, cols)), model.render(lm, rows, cols));
+    }
+    save_grey(o.output, out, "--out");
+    std::cout << "wrote " << o.output << " (" << out.cols() << "x" << out.rows() << ")\n";
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_sadm(CLI::App& app) {
+    using namespace anima_cli;
+    CLI::App* sadm = app.add_subcommand("sadm", "Shape-appearance dependence mapping: facial texture from landmarks");
+    sadm->require_subcommand(1);
+    const char* dir_help = "Folder with images/NAME.{jpg,png,pgm} and points/NAME.pts, frames in name order";
+    const char* split_help = "every:N holds out every Nth frame, last:N the last N frames (train skips them, eval uses only them)";
+
+    auto t = std::make_shared<train_options>();
+    CLI::App* train = sadm->add_subcommand("train", "Build the shape and grey-level models and the b_s -> b_g mapping");
+    train->add_option("DIR", t->dir, dir_help)->required()->type_name("DIR");
+    train->add_option("--out", t->output, "Model file to write")->required()->type_name("MODEL");
+    train->add_option("--regressor", t->regressor, "b_s -> b_g mapping")
+        ->check(CLI::IsMember({"linear", "poly2", "mlp", "svr"}))
+        ->capture_default_str();
+    train->add_option("--hold-out", t->hold_out, split_help)->type_name("every:N|last:N");
+    train->add_option("--shape-variance", t->shape_variance, "Fraction of shape variance kept")
+        ->check(CLI::Range(1e-6, 1.0))
+        ->capture_default_str();
+    train->add_option("--grey-variance", t->grey_variance, "Fraction of grey-level variance kept")
+        ->check(CLI::Range(1e-6, 1.0))
+        ->capture_default_str();
+    train->add_option("--grey-components", t->grey_components, "Keep this many grey parameters instead (0: by variance)")
+        ->check(CLI::Range(0, 100000));
+    train->add_flag("--progress", t->progress, "Report progress on stderr");
+    train->add_flag("--json", t->json, "Print a JSON object instead of text");
+    train->callback([t] { run_train(*t); });
+
+    auto e = std::make_shared<eval_options>();
+    CLI::App* eval = sadm->add_subcommand("eval", "NCC per grey parameter and PSNR per frame on a folder's frames");
+    eval->add_option("MODEL", e->model, "Model file from sadm train")->required()->type_name("MODEL");
+    eval->add_option("DIR", e->dir, dir_help)->required()->type_name("DIR");
+    eval->add_option("--noise", e->noise, "Gaussian noise (standard deviation, pixels) on the landmarks")
+        ->check(CLI::Range(0.0, 1000.0));
+    eval->add_option("--seed", e->seed, "Seed of the noise");
+    eval->add_option("--hold-out", e->hold_out, split_help)->type_name("every:N|last:N");
+    eval->add_option("--figure", e->figure,
+                     "PNG/PGM: ground truth, synthesis and synthesis with noise (--noise, else 2 px) for 4 frames")
+        ->type_name("IMAGE");
+    eval->add_flag("--progress", e->progress, "Report progress on stderr");
+    eval->add_flag("--json", e->json, "Print a JSON object (ncc, psnr, psnr_mean, ...) instead of text");
+    eval->callback([e] { run_eval(*e); });
+
+    auto s = std::make_shared<synth_options>();
+    CLI::App* synth = sadm->add_subcommand("synth", "Synthesise the face for a landmark file");
+    synth->add_option("MODEL", s->model, "Model file from sadm train")->required()->type_name("MODEL");
+    synth->add_option("LANDMARKS", s->landmarks, ".pts file, image coordinates")->required()->type_name("PTS");
+    synth->add_option("--out", s->output, "Image to write (.png or .pgm)")->required()->type_name("IMAGE");
+    synth->add_option("--neutral", s->neutral, "Frame to paste the face into (Poisson blending); else a black canvas")
+        ->type_name("IMAGE");
+    synth->callback([s] { run_synth(*s); });
+}

@@ -1,0 +1,20 @@
+// Shape-appearance dependence mapping (SADM): PCA for few samples of many
+// dimensions, Procrustes alignment, Delaunay triangulation and
+// piecewise-affine warps, the shape (Eq 1) and grey-level (Eq 2) models,
+// regressors from shape to grey parameters, synthesis with Poisson pasting,
+// the model file and the paper's evaluation (NCC, PSNR).
+#pragma once
+
+#include <anima/image.hpp>
+#include <anima/sadm/appearance_model.hpp>
+#include <anima/sadm/delaunay.hpp>
+#include <anima/sadm/evaluate_model.hpp>
+#include <anima/sadm/evaluation.hpp>
+#include <anima/sadm/landmarks.hpp>
+#include <anima/sadm/pca.hpp>
+#include <anima/sadm/piecewise_affine_warp.hpp>
+#include <anima/sadm/procrustes.hpp>
+#include <anima/sadm/regressor.hpp>
+#include <anima/sadm/sadm_model.hpp>
+#include <anima/sadm/shape_model.hpp>
+#include <anima/sadm/synthesis.hpp>
