@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <iostream>
@@ -370,8 +371,13 @@ void run_flight(const flight_options& o) {
     anima::flight_optimization_params<double> params;
     params.model = o.model == 1 ? anima::flight_model::timing_and_poses : anima::flight_model::timing;
     params.solver.max_iterations = o.iterations;
+    // Progress on request, and by itself once a run has taken 2 s.
+    const auto start = std::chrono::steady_clock::now();
     params.solver.on_iteration = [&](int iteration, double value) {
-        if (o.progress) std::cerr << "anima: flight: iteration " << iteration << ": objective " << format_number(2 * value, 6) << "\n";
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (o.progress || seconds > 2.0)
+            std::cerr << "anima: flight: iteration " << iteration << ": objective " << format_number(2 * value, 6)
+                      << " (" << format_number(seconds, 3) << " s)\n";
         return true;
     };
     if (o.progress || o.model == 1)
@@ -443,7 +449,7 @@ void register_flight(CLI::App& app) {
     sub->add_option("-o,--output", opts->output, "Write the optimised motion (60 frames/s) to this BVH file")
         ->type_name("OUT.bvh");
     sub->add_option("--plot", opts->plot, "Plot initial and optimised key times (SVG)")->type_name("OUT.svg");
-    sub->add_flag("--progress", opts->progress, "Report every iteration on stderr");
+    sub->add_flag("--progress", opts->progress, "Report every iteration on stderr (runs longer than 2 s always do)");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_flight(*opts); });
 }
