@@ -7,6 +7,7 @@
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
 #include <anima/core/version.hpp>
+#include <anima/ik.hpp>
 #include <anima/maxflow.hpp>
 #include <anima/motion.hpp>
 #include <anima/poisson.hpp>
