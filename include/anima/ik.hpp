@@ -8,5 +8,7 @@
 #include <anima/ik/ccd.hpp>
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>
+#include <anima/ik/learned_inverse.hpp>
+#include <anima/ik/pose_statistics.hpp>
 #include <anima/ik/solve.hpp>
 #include <anima/ik/step_rules.hpp>

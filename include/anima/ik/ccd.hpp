@@ -24,7 +24,7 @@ namespace anima {
 /// One sweep is one iteration. params.null_space, step_scale and restarts
 /// are not used (restarts: yes, from random poses, as in solve_ik).
 template <class T>
-ik_result<T> solve_ik_ccd(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goals, const ik_vector<T>& q0,
+ik_result<T> solve_ik_ccd(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goals, const ik_vector_arg<T>& q0,
                           const ik_params<T>& params = {}) {
     using vec3 = Eigen::Matrix<T, 3, 1>;
     using quat = Eigen::Quaternion<T>;

@@ -34,6 +34,17 @@ using ik_vector = Eigen::Matrix<T, Eigen::Dynamic, 1>;
 template <class T>
 using ik_matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
 
+namespace detail {
+template <class T>
+struct non_deduced {
+    using type = T;
+};
+}  // namespace detail
+/// A DOF vector parameter that accepts Eigen expressions (the scalar is
+/// deduced from the tree, not from the expression).
+template <class T>
+using ik_vector_arg = typename detail::non_deduced<ik_vector<T>>::type;
+
 enum class ik_joint_kind : unsigned char { fixed, hinge, ball };
 
 /// Global positions and orientations of every skeleton joint for one DOF

@@ -49,6 +49,11 @@ struct ik_params {
     T angle_tolerance = T(1e-5);         ///< orientation error, radians
     T step_scale = T(1);                 ///< alpha of Table 1
     T max_step = T(0.5);                 ///< largest DOF change per iteration (0: none)
+    /// Each goal's position residual is shortened to this length before
+    /// the step (Buss's error clamping: a far target's huge residual is not
+    /// a good linearisation). Negative: a quarter of the goal's lever (the
+    /// bone lengths from the root to the effector point); 0: no clamping.
+    T residual_clamp = T(-1);
     bool limits = true;                  ///< keep DOFs within the tree's limits
     int restarts = 0;                    ///< random restarts after a failed attempt
     std::uint64_t seed = 1;              ///< of the restarts' random poses
@@ -88,6 +93,8 @@ void check_ik_params(const ik_params<T>& p, int dofs, const char* who) {
         bad("angle_tolerance", static_cast<double>(p.angle_tolerance));
     if (!(p.step_scale > T(0)) || !std::isfinite(p.step_scale)) bad("step_scale", static_cast<double>(p.step_scale));
     if (!(p.max_step >= T(0)) || !std::isfinite(p.max_step)) bad("max_step", static_cast<double>(p.max_step));
+    if (std::isnan(p.residual_clamp) || std::isinf(p.residual_clamp))
+        bad("residual_clamp", static_cast<double>(p.residual_clamp));
     if (!(p.null_space.gain >= T(0)) || !std::isfinite(p.null_space.gain))
         bad("null_space.gain", static_cast<double>(p.null_space.gain));
     if (p.null_space.reference.size() != 0 &&
@@ -127,6 +134,35 @@ ik_vector<T> random_pose(const kinematic_tree<T>& tree, const ik_vector<T>& arou
     return tree.clamp(q);
 }
 
+/// Per goal, the length its position residual is clamped to (0: none).
+template <class T>
+std::vector<T> residual_clamps(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
+                               const ik_params<T>& p) {
+    std::vector<T> out(goals.size(), p.residual_clamp > T(0) ? p.residual_clamp : T(0));
+    if (p.residual_clamp >= T(0)) return out;
+    const auto& sk = tree.skeleton();
+    for (std::size_t i = 0; i < goals.size(); ++i) {
+        T lever = goals[i].offset.norm();
+        for (int j = static_cast<int>(goals[i].joint); sk[static_cast<std::size_t>(j)].parent != -1;
+             j = sk[static_cast<std::size_t>(j)].parent)
+            lever += tree.base_translation(static_cast<std::size_t>(j)).norm();
+        out[i] = goals[i].weight * lever / T(4);
+    }
+    return out;
+}
+
+template <class T>
+void clamp_residual(const std::vector<ik_goal<T>>& goals, const std::vector<T>& clamps, ik_vector<T>& r) {
+    int row = 0;
+    for (std::size_t i = 0; i < goals.size(); ++i) {
+        if (goals[i].has_position() && clamps[i] > T(0)) {
+            const T n = r.template segment<3>(row).norm();
+            if (n > clamps[i]) r.template segment<3>(row) *= clamps[i] / n;
+        }
+        row += goals[i].rows();
+    }
+}
+
 }  // namespace detail
 
 /// Fills result.errors and the maxima at result.q.
@@ -148,7 +184,7 @@ void evaluate_ik(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& g
 /// weighted_rule<...> or any callable of that shape). Throws
 /// anima::invalid_argument for bad goals, q0 or params.
 template <class T, class Rule>
-ik_result<T> solve_ik(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goals, const ik_vector<T>& q0,
+ik_result<T> solve_ik(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goals, const ik_vector_arg<T>& q0,
                       const Rule& rule, const ik_params<T>& params = {}) {
     const char* who = "anima::solve_ik";
     tree.check_q(q0, who);
@@ -163,6 +199,7 @@ ik_result<T> solve_ik(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goa
     std::vector<goal_error<T>> errors;
     ik_step_info<T> info;
     random_source rng(params.seed);
+    const auto clamps = detail::residual_clamps(tree, goals, params);
 
     ik_result<T> best;
     best.q = params.limits ? tree.clamp(q0) : q0;
@@ -194,6 +231,7 @@ ik_result<T> solve_ik(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goa
             }
             ++best.iterations;
             goal_jacobian(tree, q, s, goals, jac);
+            detail::clamp_residual(goals, clamps, r);
 
             // Limits inside the step: DOFs at a limit that the step pushes
             // outward lose their column, and the step is recomputed.
