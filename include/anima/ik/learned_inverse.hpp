@@ -18,6 +18,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -61,6 +62,9 @@ public:
         const std::string who = "anima::learned_ik_model::train";
         check_tree(tree, who);
         if (effectors.empty()) throw invalid_argument(who + ": no effectors");
+        for (const auto& e : effectors)
+            if (!e.offset.allFinite())
+                throw invalid_argument(who + ": effector '" + e.joint + "' has a non-finite offset");
         if (poses.rows() != tree.dofs() || poses.cols() < 2 || !poses.allFinite())
             throw invalid_argument(who + ": need at least 2 finite poses of " + std::to_string(tree.dofs()) +
                                    " DOFs, got " + std::to_string(poses.cols()) + " of " + std::to_string(poses.rows()));
@@ -94,9 +98,12 @@ public:
                 dg.col(static_cast<Eigen::Index>(i)) = m.effectors_of(tree, joints, poses.col(mem[i])) - m.centre_effectors_.col(c);
             }
             ik_matrix<T> a = dg * dg.transpose();
-            const T r = prm.ridge * (a.trace() / T(e3)) + std::numeric_limits<T>::min();
-            a.diagonal().array() += r;
-            m.inverses_[static_cast<std::size_t>(c)] = (a.ldlt().solve(dg * dq.transpose())).transpose();
+            // The ridge is floored a little above the scalar's rounding so
+            // that a rank-deficient cluster still gives a finite fit.
+            const T rel = std::max(prm.ridge, T(64) * std::numeric_limits<T>::epsilon());
+            a.diagonal().array() += rel * (a.trace() / T(e3)) + std::numeric_limits<T>::min();
+            ik_matrix<T> inv = (a.ldlt().solve(dg * dq.transpose())).transpose();
+            if (inv.allFinite()) m.inverses_[static_cast<std::size_t>(c)] = std::move(inv);
         }
         return m;
     }
@@ -168,7 +175,7 @@ public:
     /// Reads what save wrote. Throws anima::parse_error ("source:line: ...").
     static learned_ik_model load(std::istream& in, const std::string& source = "<learned-ik>") {
         learned_ik_model m;
-        reader r{in, source};
+        reader r(in, source);
         r.next("anima-learned-ik");
         if (r.integer() != 1) r.fail("unsupported version (this build reads version 1)");
         r.next("dofs");
@@ -219,6 +226,7 @@ private:
     }
 
     struct reader {
+        reader(std::istream& stream, std::string name) : in(stream), source(std::move(name)) {}
         std::istream& in;
         std::string source;
         std::size_t number_of_line = 0;
