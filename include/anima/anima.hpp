@@ -10,6 +10,7 @@
 #include <anima/ik.hpp>
 #include <anima/maxflow.hpp>
 #include <anima/motion.hpp>
+#include <anima/optimize.hpp>
 #include <anima/poisson.hpp>
 #include <anima/rotation.hpp>
 #include <anima/symmetry.hpp>

@@ -1,0 +1,199 @@
+// Levenberg-Marquardt against independent solutions: Eigen's QR least
+// squares on linear problems, planted parameters of a noise-free curve fit,
+// and Eigen's own (MINPACK) Levenberg-Marquardt on a noisy one.
+#include <anima/optimize.hpp>
+
+#include <doctest/doctest.h>
+
+#include <Eigen/QR>
+#include <cmath>
+#include <random>
+
+#include "../test_support.hpp"
+#include "optimize_test_support.hpp"
+
+using anima::matrix_x;
+using anima::vector_x;
+using anima_test::non_increasing;
+using anima_test::tolerance;
+
+namespace {
+
+// y = a exp(-b t) + c sampled at 40 times, optionally with noise.
+struct decay_data {
+    Eigen::VectorXd t, y;
+    decay_data(double a, double b, double c, double noise, unsigned seed) : t(40), y(40) {
+        std::mt19937 gen(seed);
+        std::normal_distribution<double> normal(0.0, 1.0);
+        for (int i = 0; i < 40; ++i) {
+            t[i] = 0.1 * i;
+            y[i] = a * std::exp(-b * t[i]) + c + noise * normal(gen);
+        }
+    }
+};
+
+template <class T>
+auto decay_residuals(const decay_data& data) {
+    return [&data](const vector_x<T>& p, vector_x<T>& r, matrix_x<T>* j) {
+        const Eigen::Index m = data.t.size();
+        r.resize(m);
+        if (j) j->resize(m, 3);
+        for (Eigen::Index i = 0; i < m; ++i) {
+            const T t = T(data.t[i]);
+            const T e = std::exp(-p[1] * t);
+            r[i] = p[0] * e + p[2] - T(data.y[i]);
+            if (j) {
+                (*j)(i, 0) = e;
+                (*j)(i, 1) = -p[0] * t * e;
+                (*j)(i, 2) = T(1);
+            }
+        }
+    };
+}
+
+// The same model for Eigen's MINPACK port (double only).
+struct eigen_decay_functor {
+    using Scalar = double;
+    using InputType = Eigen::VectorXd;
+    using ValueType = Eigen::VectorXd;
+    using JacobianType = Eigen::MatrixXd;
+    enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+    const decay_data* data;
+    int inputs() const { return 3; }
+    int values() const { return int(data->t.size()); }
+    int operator()(const Eigen::VectorXd& p, Eigen::VectorXd& r) const {
+        for (Eigen::Index i = 0; i < data->t.size(); ++i) {
+            r[i] = p[0] * std::exp(-p[1] * data->t[i]) + p[2] - data->y[i];
+        }
+        return 0;
+    }
+    int df(const Eigen::VectorXd& p, Eigen::MatrixXd& j) const {
+        for (Eigen::Index i = 0; i < data->t.size(); ++i) {
+            const double e = std::exp(-p[1] * data->t[i]);
+            j(i, 0) = e;
+            j(i, 1) = -p[0] * data->t[i] * e;
+            j(i, 2) = 1.0;
+        }
+        return 0;
+    }
+};
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("levenberg_marquardt solves linear least squares like Eigen's QR", T, float, double) {
+    std::mt19937 gen(11);
+    std::normal_distribution<double> normal;
+    Eigen::MatrixXd a(30, 6);
+    Eigen::VectorXd b(30);
+    for (int i = 0; i < 30; ++i) {
+        b[i] = normal(gen);
+        for (int k = 0; k < 6; ++k) a(i, k) = normal(gen);
+    }
+    const Eigen::VectorXd exact = a.colPivHouseholderQr().solve(b);
+    const matrix_x<T> at = a.cast<T>();
+    const vector_x<T> bt = b.cast<T>();
+    auto residuals = [&](const vector_x<T>& x, vector_x<T>& r, matrix_x<T>* j) {
+        r = at * x - bt;
+        if (j) *j = at;
+    };
+    const auto result = anima::levenberg_marquardt<T>(residuals, vector_x<T>::Zero(6));
+    CHECK(result.converged());
+    CHECK((result.x.template cast<double>() - exact).norm() <= tolerance<T>(1e-9, 1e-4) * exact.norm());
+    CHECK(non_increasing(result.history, bt.squaredNorm() / T(2)));
+}
+
+TEST_CASE_TEMPLATE("levenberg_marquardt recovers planted curve parameters", T, float, double) {
+    const decay_data data(2.5, 1.3, -0.4, 0.0, 1u);
+    vector_x<T> x0(3);
+    x0 << T(1), T(0.2), T(0);
+    const auto result = anima::levenberg_marquardt<T>(decay_residuals<T>(data), x0);
+    CHECK(result.converged());
+    CHECK(double(result.x[0]) == doctest::Approx(2.5).epsilon(double(tolerance<T>(1e-8, 1e-3))));
+    CHECK(double(result.x[1]) == doctest::Approx(1.3).epsilon(double(tolerance<T>(1e-8, 1e-3))));
+    CHECK(double(result.x[2]) == doctest::Approx(-0.4).epsilon(double(tolerance<T>(1e-8, 2e-3))));
+    CHECK(result.value <= tolerance<T>(1e-20, 1e-8));
+}
+
+TEST_CASE("levenberg_marquardt agrees with Eigen's MINPACK Levenberg-Marquardt on noisy data") {
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+        CAPTURE(seed);
+        const decay_data data(1.7, 0.8, 0.3, 0.05, seed);
+        Eigen::VectorXd x0(3);
+        x0 << 1.0, 0.3, 0.0;
+
+        Eigen::VectorXd reference = x0;
+        eigen_decay_functor functor{&data};
+        Eigen::LevenbergMarquardt<eigen_decay_functor> eigen_lm(functor);
+        eigen_lm.parameters.xtol = 1e-14;
+        eigen_lm.parameters.ftol = 1e-14;
+        eigen_lm.minimize(reference);
+
+        const auto result = anima::levenberg_marquardt<double>(decay_residuals<double>(data), x0);
+        CHECK(result.converged());
+        CHECK((result.x - reference).norm() <= 1e-7 * reference.norm());
+        CHECK(non_increasing(result.history, 1e300));
+    }
+}
+
+TEST_CASE_TEMPLATE("levenberg_marquardt handles rank deficiency, rejected steps and bad input", T, float, double) {
+    SUBCASE("a variable the residuals ignore keeps its value") {
+        auto residuals = [](const vector_x<T>& x, vector_x<T>& r, matrix_x<T>* j) {
+            r.resize(2);
+            r << x[0] - T(3), T(2) * x[0] + T(1);
+            if (j) {
+                j->setZero(2, 2);
+                (*j)(0, 0) = T(1);
+                (*j)(1, 0) = T(2);
+            }
+        };
+        vector_x<T> x0(2);
+        x0 << T(0), T(5);
+        const auto result = anima::levenberg_marquardt<T>(residuals, x0);
+        CHECK(result.converged());
+        CHECK(double(result.x[0]) == doctest::Approx(0.2).epsilon(double(tolerance<T>(1e-9, 1e-4))));
+        CHECK(result.x[1] == T(5));
+    }
+    SUBCASE("NaN at trial points is a rejected step") {
+        // r = log(x) - 1 is NaN for x < 0, where the first Gauss-Newton step from x = 20 lands.
+        auto residuals = [](const vector_x<T>& x, vector_x<T>& r, matrix_x<T>* j) {
+            r.resize(1);
+            r[0] = std::log(x[0]) - T(1);
+            if (j) {
+                j->resize(1, 1);
+                (*j)(0, 0) = T(1) / x[0];
+            }
+        };
+        const auto result = anima::levenberg_marquardt<T>(residuals, vector_x<T>::Constant(1, T(20)));
+        CHECK(result.converged());
+        CHECK(double(result.x[0]) == doctest::Approx(std::exp(1.0)).epsilon(double(tolerance<T>(1e-8, 1e-4))));
+    }
+    SUBCASE("zero residual at the start") {
+        auto residuals = [](const vector_x<T>& x, vector_x<T>& r, matrix_x<T>* j) {
+            r = x;
+            if (j) *j = matrix_x<T>::Identity(x.size(), x.size());
+        };
+        const auto result = anima::levenberg_marquardt<T>(residuals, vector_x<T>::Zero(4));
+        CHECK(result.converged());
+        CHECK(result.iterations == 0);
+    }
+    SUBCASE("bad input") {
+        auto wrong_jacobian = [](const vector_x<T>&, vector_x<T>& r, matrix_x<T>* j) {
+            r = vector_x<T>::Ones(3);
+            if (j) j->setZero(2, 2);
+        };
+        CHECK_THROWS_AS(anima::levenberg_marquardt<T>(wrong_jacobian, vector_x<T>::Zero(2)), anima::error);
+        auto nan_residuals = [](const vector_x<T>& x, vector_x<T>& r, matrix_x<T>* j) {
+            r = vector_x<T>::Constant(1, std::numeric_limits<T>::quiet_NaN());
+            if (j) j->setZero(1, x.size());
+        };
+        CHECK_THROWS_AS(anima::levenberg_marquardt<T>(nan_residuals, vector_x<T>::Zero(2)), anima::error);
+        CHECK_THROWS_AS(anima::levenberg_marquardt<T>(nan_residuals, vector_x<T>()), anima::invalid_argument);
+        anima::levenberg_marquardt_params<T> params;
+        params.initial_damping = T(0);
+        auto fine = [](const vector_x<T>& x, vector_x<T>& r, matrix_x<T>* j) {
+            r = x;
+            if (j) *j = matrix_x<T>::Identity(x.size(), x.size());
+        };
+        CHECK_THROWS_AS(anima::levenberg_marquardt<T>(fine, vector_x<T>::Ones(2), params), anima::invalid_argument);
+    }
+}
