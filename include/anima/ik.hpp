@@ -5,6 +5,7 @@
 // learned Jacobian inverse (SOM + per-cluster J+, Eq 3).
 #pragma once
 
+#include <anima/ik/bfgs_ik.hpp>
 #include <anima/ik/ccd.hpp>
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>

@@ -8,6 +8,7 @@
 #include <anima/bvh.hpp>
 #include <anima/ik.hpp>
 #include <anima/motion.hpp>
+#include <anima/optimize/numeric_derivatives.hpp>
 
 #include <doctest/doctest.h>
 
@@ -155,6 +156,23 @@ TEST_CASE_TEMPLATE("7-DOF arm: Jacobian of a hinge chain matches central differe
         const auto num = difference_jacobian(arm, q, goals, tolerance<T>(1e-6, 3e-3));
         CHECK((jac - num).cwiseAbs().maxCoeff() < tolerance<T>(1e-7, 1e-2));
     }
+}
+
+TEST_CASE_TEMPLATE("goal_jacobian is minus numeric_jacobian of the residual (optimize module)", T, double, float) {
+    const auto walk = read_bvh<T>(bundled("walk_cmu31_02_01.bvh"));
+    const auto& sk = walk.skeleton();
+    auto tree = kinematic_tree<T>::chain(sk, "Hips", "RightHand");
+    tree.set_root_translation(true);
+    std::vector<ik_goal<T>> goals{position_goal<T>(sk.index_of("RightHand"), Eigen::Matrix<T, 3, 1>(T(1), T(2), T(3)))};
+    const ik_vector<T> q = tree.pose_of(walk, 120);
+    const auto residual = [&](const ik_vector<T>& x, ik_vector<T>& r) {
+        ik_state<T> s;
+        tree.forward(x, s);
+        goal_residual(s, goals, r);
+    };
+    const auto num = numeric_jacobian<T>(residual, q, tolerance<T>(1e-6, 3e-3));
+    const auto jac = goal_jacobian(tree, q, goals);
+    CHECK((jac + num).cwiseAbs().maxCoeff() < tolerance<T>(1e-5, 5e-2) * (T(1) + num.cwiseAbs().maxCoeff()));
 }
 
 #ifdef ANIMA_HAVE_KDL

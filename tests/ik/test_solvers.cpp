@@ -91,6 +91,13 @@ TEST_CASE_TEMPLATE("7-DOF arm: every Jacobian rule and CCD reach random reachabl
         return solve_ik_ccd(a, g, q0, pc);
     });
     CHECK(ccd >= trials * 3 / 4);
+    bfgs_ik_params<T> pb;
+    pb.ik = p;
+    pb.ik.max_iterations = 200;
+    const int bfgs = arm_successes(arm, trials, p.tolerance, [&](const auto& a, const auto& g, const auto& q0) {
+        return solve_ik_bfgs(a, g, q0, pb);
+    });
+    CHECK(bfgs >= trials - 2);
 }
 
 TEST_CASE_TEMPLATE("jacobian_inverse: square regular chain converges; a singular one says so", T, double, float) {
@@ -168,7 +175,7 @@ TEST_CASE_TEMPLATE("joint limits are held inside the solve and never violated", 
     auto arm = anima_ik_test::seven_dof_arm<T>();
     for (int i = 0; i < 7; ++i) arm.set_hinge(static_cast<std::size_t>(i), vec3<T>::Unit(anima_ik_test::arm_axis(i)), T(-0.4), T(0.4));
     random_source rng(9);
-    int converged = 0;
+    int converged = 0, converged_bfgs = 0;
     for (int t = 0; t < 20; ++t) {
         const auto qg = random_q(arm, rng);
         std::vector<ik_goal<T>> goals{
@@ -178,8 +185,15 @@ TEST_CASE_TEMPLATE("joint limits are held inside the solve and never violated", 
         converged += r.converged();
         const auto c = solve_ik_ccd(arm, goals, ik_vector<T>::Zero(7), arm_params<T>());
         CHECK(arm.within_limits(c.q));
+        bfgs_ik_params<T> pb;
+        pb.ik = arm_params<T>();
+        pb.ik.tolerance = tolerance<T>(1.2e-5, 5e-5);  // float: f = |r|^2 / 2 runs out of digits first
+        const auto b = solve_ik_bfgs(arm, goals, ik_vector<T>::Zero(7), pb);
+        CHECK(arm.within_limits(b.q));
+        converged_bfgs += b.converged();
     }
     CHECK(converged >= 18);
+    CHECK(converged_bfgs >= 18);
     // Target needing joints beyond their limits: the closest pose within them.
     std::vector<ik_goal<T>> behind{position_goal<T>(6, vec3<T>(0, 0, T(-1)), anima_ik_test::arm_tip<T>())};
     const auto r = solve_ik(arm, behind, ik_vector<T>::Zero(7), pseudo_inverse<T>{}, arm_params<T>());
