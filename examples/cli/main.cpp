@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     register_smooth(app);
     register_maxflow(app);
     register_texture(app);
+    register_ik(app);
     // Keep after the last register_*: subcommands created later would copy it
     // into their own --help.
     app.footer("Run 'anima SUBCOMMAND --help' for the options of a subcommand.");
