@@ -22,5 +22,6 @@ void register_poisson(CLI::App& app);
 void register_smooth(CLI::App& app);
 void register_maxflow(CLI::App& app);
 void register_texture(CLI::App& app);
+void register_ik(CLI::App& app);
 void register_flight(CLI::App& app);
 void register_sadm(CLI::App& app);

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     register_smooth(app);
     register_maxflow(app);
     register_texture(app);
+    register_ik(app);
     register_flight(app);
     register_sadm(app);
     // Keep after the last register_*: subcommands created later would copy it

@@ -8,6 +8,7 @@
 #include <anima/core/random.hpp>
 #include <anima/core/version.hpp>
 #include <anima/flight.hpp>
+#include <anima/ik.hpp>
 #include <anima/maxflow.hpp>
 #include <anima/motion.hpp>
 #include <anima/optimize.hpp>

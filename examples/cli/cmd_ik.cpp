@@ -1,0 +1,234 @@
+// anima ik IN.bvh --frame F --effector NAME --target X,Y,Z [...] -o OUT.bvh:
+// solves frame F's pose so that each named joint reaches its target and
+// writes the clip with that frame replaced. --offset NAME --frames A-B --by
+// X,Y,Z instead moves a joint by an offset over a frame range, frame by
+// frame, each solve warm-started from the previous solution and pulled
+// toward the original frame's pose in the null space so the result stays
+// smooth.
+#include "commands.hpp"
+#include "common.hpp"
+
+#include <anima/ik.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace anima_cli {
+namespace {
+
+struct ik_options {
+    std::string input, output, solver = "dls", offset, frames, by, model_out;
+    std::size_t frame = 0;
+    std::vector<std::string> effectors, targets, train;
+    int iterations = 100, restarts = 3;
+    double tolerance = 1e-5;
+    bool json = false;
+};
+
+vec3 parse_vec3(const std::string& text, const char* option) {
+    std::stringstream s(text);
+    vec3 v;
+    char c1 = 0, c2 = 0;
+    if (!(s >> v.x() >> c1 >> v.y() >> c2 >> v.z()) || c1 != ',' || c2 != ',' || !v.allFinite())
+        throw CLI::ValidationError(option, "expected X,Y,Z (three finite numbers), got '" + text + "'");
+    return v;
+}
+
+/// Body scale: the diagonal of the first frame's joint bounding box.
+double body_scale(const clip_t& c) {
+    const auto pose = anima::forward_kinematics(c, 0);
+    Eigen::AlignedBox3d box;
+    for (const auto& p : pose.positions) box.extend(p);
+    return std::max(box.diagonal().norm(), 1e-9);
+}
+
+struct solver_setup {
+    anima::kinematic_tree<double> tree;
+    anima::ik_params<double> params;
+    std::unique_ptr<anima::learned_ik_model<double>> model;
+};
+
+anima::ik_result<double> run_solver(const ik_options& o, const solver_setup& s,
+                                    const std::vector<anima::ik_goal<double>>& goals, const anima::ik_vector<double>& q0,
+                                    const anima::ik_params<double>& params) {
+    anima::damped_least_squares<double>::params d;
+    d.adaptive = true;
+    if (o.solver == "pinv") return anima::solve_ik(s.tree, goals, q0, anima::pseudo_inverse<double>{}, params);
+    if (o.solver == "dls") return anima::solve_ik(s.tree, goals, q0, anima::damped_least_squares<double>(d), params);
+    if (o.solver == "ccd") return anima::solve_ik_ccd(s.tree, goals, q0, params);
+    if (o.solver == "bfgs") {
+        anima::bfgs_ik_params<double> b;
+        b.ik = params;
+        return anima::solve_ik_bfgs(s.tree, goals, q0, b);
+    }
+    anima::learned_solve_params<double> l;
+    l.ik = params;
+    return anima::solve_ik_learned(s.tree, *s.model, goals, l);
+}
+
+void run_ik(const ik_options& o) {
+    const auto start = std::chrono::steady_clock::now();
+    clip_t c = load_clip(o.input);
+    const auto& sk = c.skeleton();
+    const double scale = body_scale(c);
+    solver_setup s{anima::kinematic_tree<double>(sk), {}, nullptr};
+    const bool learned = o.solver == "learned";
+    if (learned) s.tree.set_fixed(0);
+    else if (sk.translation_slot(0) >= 0) s.tree.set_root_translation(true);
+    s.params.tolerance = o.tolerance * scale;
+    s.params.max_iterations = o.iterations;
+    s.params.restarts = o.restarts;
+
+    const bool offset_mode = !o.offset.empty();
+    std::vector<std::pair<std::string, vec3>> wanted;
+    if (!offset_mode) {
+        if (o.effectors.empty() || o.effectors.size() != o.targets.size())
+            throw CLI::ValidationError("--effector/--target", "give one --target per --effector (" +
+                                       std::to_string(o.effectors.size()) + " effectors, " +
+                                       std::to_string(o.targets.size()) + " targets)");
+        for (std::size_t i = 0; i < o.effectors.size(); ++i)
+            wanted.emplace_back(o.effectors[i], parse_vec3(o.targets[i], "--target"));
+        if (o.frame >= c.frames())
+            throw failure("--frame " + std::to_string(o.frame) + " is outside 0.." + std::to_string(c.frames() - 1));
+    } else {
+        wanted.emplace_back(o.offset, parse_vec3(o.by, "--by"));
+    }
+    for (const auto& w : wanted)
+        if (!sk.find(w.first)) throw failure("no joint named '" + w.first + "' in '" + o.input + "'");
+
+    if (learned) {
+        if (o.train.empty()) throw CLI::ValidationError("--train", "the learned solver needs at least one --train clip");
+        std::vector<anima::ik_effector<double>> eff;
+        for (const auto& w : wanted) eff.push_back({w.first, vec3::Zero()});
+        anima::ik_matrix<double> poses(s.tree.dofs(), 0);
+        for (const auto& path : o.train) {
+            const clip_t t = load_clip(path);
+            if (t.skeleton() != sk) throw failure("--train '" + path + "' has another skeleton than '" + o.input + "'");
+            const auto p = anima::clip_poses(s.tree, t);
+            poses.conservativeResize(Eigen::NoChange, poses.cols() + p.cols());
+            poses.rightCols(p.cols()) = p;
+        }
+        std::cerr << "anima ik: training on " << poses.cols() << " poses\n";
+        s.model = std::make_unique<anima::learned_ik_model<double>>(
+            anima::learned_ik_model<double>::train(s.tree, eff, poses));
+        if (!o.model_out.empty()) {
+            std::ostringstream text;
+            s.model->save(text);
+            write_text_file(o.model_out, text.str());
+        }
+    }
+
+    std::size_t first = o.frame, last = o.frame;
+    if (offset_mode) {
+        const auto dash = o.frames.find('-');
+        try {
+            first = std::stoul(o.frames.substr(0, dash));
+            last = dash == std::string::npos ? first : std::stoul(o.frames.substr(dash + 1));
+        } catch (const std::exception&) {
+            throw CLI::ValidationError("--frames", "expected A-B, got '" + o.frames + "'");
+        }
+        if (first > last || last >= c.frames())
+            throw failure("--frames " + o.frames + " is not within 0.." + std::to_string(c.frames() - 1));
+    }
+
+    const clip_t original = c;
+    json effectors = json::array();
+    int iterations = 0, converged_frames = 0;
+    double worst = 0;
+    anima::ik_vector<double> previous;
+    for (std::size_t f = first; f <= last; ++f) {
+        s.tree.set_base(original, f);
+        const auto truth = anima::forward_kinematics(original, f);
+        std::vector<anima::ik_goal<double>> goals;
+        for (const auto& w : wanted) {
+            const auto j = sk.index_of(w.first);
+            goals.push_back(anima::position_goal<double>(j, offset_mode ? vec3(truth.positions[j] + w.second) : w.second));
+        }
+        const anima::ik_vector<double> own = s.tree.pose_of(original, f);
+        anima::ik_params<double> params = s.params;
+        if (offset_mode) {  // smooth: keep near the original frame, start from the last solution
+            params.null_space.gain = 0.2;
+            params.null_space.reference = own;
+            params.restarts = 0;
+        }
+        const auto r = run_solver(o, s, goals, previous.size() ? previous : own, params);
+        previous = r.q;
+        s.tree.write_pose(r.q, c, f);
+        iterations += r.iterations;
+        converged_frames += r.converged();
+        worst = std::max(worst, r.max_position_error);
+        if (!offset_mode || f == last)
+            for (std::size_t i = 0; i < goals.size(); ++i)
+                effectors.push_back({{"name", wanted[i].first},
+                                     {"error", r.errors[i].position},
+                                     {"status", anima::to_string(r.status)}});
+        if (offset_mode && (f - first) % 20 == 0)
+            std::cerr << "anima ik: frame " << f << " of " << first << ".." << last << "\n";
+    }
+    // Largest frame-to-frame joint rotation change (degrees), before and after.
+    const auto velocity = [&](const clip_t& m) {
+        double v = 0;
+        for (std::size_t f = std::max<std::size_t>(first, 1); f <= std::min(last + 1, m.frames() - 1); ++f)
+            for (std::size_t j = 0; j < m.joints(); ++j)
+                v = std::max(v, m.rotation(f, j).angularDistance(m.rotation(f - 1, j)));
+        return v * 180 / anima::pi<double>;
+    };
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(c));
+    json out = {{"input", o.input},
+                {"solver", o.solver},
+                {"frames", json::array({first, last})},
+                {"effectors", effectors},
+                {"converged_frames", converged_frames},
+                {"largest_error", worst},
+                {"tolerance", s.params.tolerance},
+                {"iterations", iterations},
+                {"seconds", seconds},
+                {"max_joint_step_deg_before", velocity(original)},
+                {"max_joint_step_deg_after", velocity(c)}};
+    if (!o.output.empty()) out["output"] = o.output;
+    if (o.json) {
+        print_json(out);
+        return;
+    }
+    std::cout << "solved " << (last - first + 1) << " frame" << (last == first ? "" : "s") << " with " << o.solver
+              << ": " << converged_frames << " converged, largest error " << format_number(worst, 3) << " (tolerance "
+              << format_number(s.params.tolerance, 3) << "), " << iterations << " iterations, "
+              << format_number(seconds, 3) << " s\n";
+}
+
+}  // namespace
+}  // namespace anima_cli
+
+void register_ik(CLI::App& app) {
+    using namespace anima_cli;
+    auto o = std::make_shared<ik_options>();
+    auto* sub = app.add_subcommand("ik", "Inverse kinematics: move joints to targets in one frame or over a range");
+    sub->add_option("input", o->input, "Input BVH file")->required()->check(CLI::ExistingFile);
+    sub->add_option("--frame", o->frame, "Frame to solve (target mode)");
+    sub->add_option("--effector", o->effectors, "Joint to move (repeat, one per --target)");
+    sub->add_option("--target", o->targets, "World position X,Y,Z for the matching --effector");
+    sub->add_option("--offset", o->offset, "Offset mode: the joint to move by --by over --frames");
+    sub->add_option("--frames", o->frames, "Offset mode: frame range A-B");
+    sub->add_option("--by", o->by, "Offset mode: displacement X,Y,Z in the clip's units");
+    sub->add_option("--solver", o->solver, "pinv, dls (adaptive damping), ccd, bfgs or learned")
+        ->check(CLI::IsMember({"pinv", "dls", "ccd", "bfgs", "learned"}));
+    sub->add_option("--train", o->train, "Clips to learn the Jacobian inverse from (learned solver)");
+    sub->add_option("--save-model", o->model_out, "Write the learned model to this file");
+    sub->add_option("--tolerance", o->tolerance, "Position tolerance relative to the body scale")
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--iterations", o->iterations, "Iteration cap per attempt")->check(CLI::NonNegativeNumber);
+    sub->add_option("--restarts", o->restarts, "Random restarts after a failed attempt (target mode)")
+        ->check(CLI::NonNegativeNumber);
+    sub->add_option("-o,--output", o->output, "Output BVH file");
+    sub->add_flag("--json", o->json, "Print the result as JSON");
+    sub->callback([o] { run_ik(*o); });
+}

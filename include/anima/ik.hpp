@@ -1,0 +1,15 @@
+// Inverse kinematics: kinematic trees over a skeleton, goals and their
+// analytic Jacobian, the Jacobian iteration of Table 1 with pluggable step
+// rules (inverse, pseudo-inverse, damped least squares, weighted), null-space
+// tasks and joint limits, quaternion CCD, BFGS on goal errors, and the
+// learned Jacobian inverse (SOM + per-cluster J+, Eq 3).
+#pragma once
+
+#include <anima/ik/bfgs_ik.hpp>
+#include <anima/ik/ccd.hpp>
+#include <anima/ik/goal.hpp>
+#include <anima/ik/kinematic_tree.hpp>
+#include <anima/ik/learned_inverse.hpp>
+#include <anima/ik/pose_statistics.hpp>
+#include <anima/ik/solve.hpp>
+#include <anima/ik/step_rules.hpp>

@@ -1,0 +1,297 @@
+// The Jacobian IK iteration of Table 1 with the step rule as a policy:
+//   e = g - f(q); J = Jacobian(q); dq = alpha * rule(J, e); q += dq
+// plus what a usable solver needs around it: a null-space secondary task
+// (pull toward a reference pose without disturbing the goals), joint limits
+// inside the solve (a DOF that would leave its range is clamped and its
+// column removed before the step is recomputed, so the other DOFs take
+// over instead of the solve sticking at the limit), a cap on the step,
+// random restarts, and a result that is the best pose seen, never NaN.
+#pragma once
+
+#include <anima/core/error.hpp>
+#include <anima/core/random.hpp>
+#include <anima/ik/goal.hpp>
+#include <anima/ik/kinematic_tree.hpp>
+#include <anima/ik/step_rules.hpp>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace anima {
+
+enum class ik_status : unsigned char {
+    converged,            ///< every goal within tolerance
+    unreachable_closest,  ///< stopped at a pose no step improves: the closest found
+    max_iterations,       ///< still improving when the iteration cap was reached
+    singular              ///< the rule could not invert J (jacobian_inverse only)
+};
+
+inline const char* to_string(ik_status s) {
+    switch (s) {
+        case ik_status::converged: return "converged";
+        case ik_status::unreachable_closest: return "unreachable_closest";
+        case ik_status::max_iterations: return "max_iterations";
+        default: return "singular";
+    }
+}
+
+/// Options shared by every IK solver.
+template <class T>
+struct ik_params {
+    int max_iterations = 100;            ///< per attempt
+    T tolerance = T(1e-5);               ///< position error, in skeleton units
+    T angle_tolerance = T(1e-5);         ///< orientation error, radians
+    T step_scale = T(1);                 ///< alpha of Table 1
+    T max_step = T(0.5);                 ///< largest DOF change per iteration (0: none)
+    /// Each goal's position residual is shortened to this length before
+    /// the step (Buss's error clamping: a far target's huge residual is not
+    /// a good linearisation). Negative: a quarter of the goal's lever (the
+    /// bone lengths from the root to the effector point); 0: no clamping.
+    T residual_clamp = T(-1);
+    bool limits = true;                  ///< keep DOFs within the tree's limits
+    int restarts = 0;                    ///< random restarts after a failed attempt
+    std::uint64_t seed = 1;              ///< of the restarts' random poses
+    /// Null-space task: dq += (I - J+ J) gain (reference - q). Off when the
+    /// gain is 0 or reference is empty.
+    struct null_space_params {
+        T gain = T(0);
+        ik_vector<T> reference;
+    } null_space;
+};
+
+template <class T>
+struct ik_result {
+    ik_vector<T> q;                      ///< best pose found (always finite)
+    ik_status status = ik_status::max_iterations;
+    int iterations = 0;                  ///< over all attempts
+    int attempts = 0;
+    std::vector<goal_error<T>> errors;   ///< per goal, at q
+    T max_position_error = T(0);
+    T max_angle_error = T(0);
+    ik_vector<T> singular_values;        ///< of the last Jacobian, when the rule computed them
+    T damping = T(0);                    ///< last damping used
+    bool converged() const { return status == ik_status::converged; }
+};
+
+namespace detail {
+
+template <class T>
+void check_ik_params(const ik_params<T>& p, int dofs, const char* who) {
+    const auto bad = [&](const std::string& what, double v) {
+        throw invalid_argument(std::string(who) + ": " + what + " is " + std::to_string(v));
+    };
+    if (p.max_iterations < 0) bad("max_iterations", p.max_iterations);
+    if (p.restarts < 0) bad("restarts", p.restarts);
+    if (!(p.tolerance > T(0)) || !std::isfinite(p.tolerance)) bad("tolerance", static_cast<double>(p.tolerance));
+    if (!(p.angle_tolerance > T(0)) || !std::isfinite(p.angle_tolerance))
+        bad("angle_tolerance", static_cast<double>(p.angle_tolerance));
+    if (!(p.step_scale > T(0)) || !std::isfinite(p.step_scale)) bad("step_scale", static_cast<double>(p.step_scale));
+    if (!(p.max_step >= T(0)) || !std::isfinite(p.max_step)) bad("max_step", static_cast<double>(p.max_step));
+    if (std::isnan(p.residual_clamp) || std::isinf(p.residual_clamp))
+        bad("residual_clamp", static_cast<double>(p.residual_clamp));
+    if (!(p.null_space.gain >= T(0)) || !std::isfinite(p.null_space.gain))
+        bad("null_space.gain", static_cast<double>(p.null_space.gain));
+    if (p.null_space.reference.size() != 0 &&
+        (p.null_space.reference.size() != dofs || !p.null_space.reference.allFinite()))
+        throw invalid_argument(std::string(who) + ": null_space.reference has " +
+                               std::to_string(p.null_space.reference.size()) + " entries (or non-finite ones), the tree " +
+                               std::to_string(dofs) + " DOFs");
+}
+
+template <class T>
+struct error_summary {
+    T position = T(0), angle = T(0), score = T(0);
+};
+
+template <class T>
+error_summary<T> summarise(const std::vector<goal_error<T>>& errors, const ik_params<T>& p) {
+    error_summary<T> s;
+    for (const auto& e : errors) {
+        s.position = std::max(s.position, e.position);
+        s.angle = std::max(s.angle, e.angle);
+    }
+    s.score = std::max(s.position / p.tolerance, s.angle / p.angle_tolerance);
+    return s;
+}
+
+/// A random pose: limited DOFs uniform within their limits, ball DOFs
+/// without limits within +-1 rad of `around`, translations at `around`.
+template <class T>
+ik_vector<T> random_pose(const kinematic_tree<T>& tree, const ik_vector<T>& around, random_source& rng) {
+    ik_vector<T> q = around;
+    for (int k = 0; k < tree.dofs(); ++k) {
+        const T lo = tree.lower()[k], hi = tree.upper()[k];
+        const T u = static_cast<T>(rng.uniform());
+        if (std::isfinite(lo) && std::isfinite(hi)) q[k] = lo + u * (hi - lo);
+        else if (!(tree.root_translation() && k < 3)) q[k] = around[k] + (T(2) * u - T(1));
+    }
+    return tree.clamp(q);
+}
+
+/// Per goal, the length its position residual is clamped to (0: none).
+template <class T>
+std::vector<T> residual_clamps(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
+                               const ik_params<T>& p) {
+    std::vector<T> out(goals.size(), p.residual_clamp > T(0) ? p.residual_clamp : T(0));
+    if (p.residual_clamp >= T(0)) return out;
+    const auto& sk = tree.skeleton();
+    for (std::size_t i = 0; i < goals.size(); ++i) {
+        T lever = goals[i].offset.norm();
+        for (int j = static_cast<int>(goals[i].joint); sk[static_cast<std::size_t>(j)].parent != -1;
+             j = sk[static_cast<std::size_t>(j)].parent)
+            lever += tree.base_translation(static_cast<std::size_t>(j)).norm();
+        out[i] = goals[i].weight * lever / T(4);
+    }
+    return out;
+}
+
+template <class T>
+void clamp_residual(const std::vector<ik_goal<T>>& goals, const std::vector<T>& clamps, ik_vector<T>& r) {
+    int row = 0;
+    for (std::size_t i = 0; i < goals.size(); ++i) {
+        if (goals[i].has_position() && clamps[i] > T(0)) {
+            const T n = r.template segment<3>(row).norm();
+            if (n > clamps[i]) r.template segment<3>(row) *= clamps[i] / n;
+        }
+        row += goals[i].rows();
+    }
+}
+
+}  // namespace detail
+
+/// Fills result.errors and the maxima at result.q.
+template <class T>
+void evaluate_ik(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals, ik_result<T>& result) {
+    ik_state<T> s;
+    ik_vector<T> r;
+    tree.forward_unchecked(result.q, s);
+    goal_residual(s, goals, r, &result.errors);
+    result.max_position_error = result.max_angle_error = T(0);
+    for (const auto& e : result.errors) {
+        result.max_position_error = std::max(result.max_position_error, e.position);
+        result.max_angle_error = std::max(result.max_angle_error, e.angle);
+    }
+}
+
+/// Solves for q moving every goal to its target, from q0, with the step
+/// rule `rule` (jacobian_inverse, pseudo_inverse, damped_least_squares,
+/// weighted_rule<...> or any callable of that shape). Throws
+/// anima::invalid_argument for bad goals, q0 or params.
+template <class T, class Rule>
+ik_result<T> solve_ik(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goals, const ik_vector_arg<T>& q0,
+                      const Rule& rule, const ik_params<T>& params = {}) {
+    const char* who = "anima::solve_ik";
+    tree.check_q(q0, who);
+    check_goals(tree, goals, who);
+    detail::check_ik_params(params, tree.dofs(), who);
+    const int n = tree.dofs();
+    const bool use_null = params.null_space.gain > T(0) && params.null_space.reference.size() == n;
+
+    ik_state<T> s;
+    ik_vector<T> r, dq, z, jz, zstep;
+    ik_matrix<T> jac, jm;
+    std::vector<goal_error<T>> errors;
+    ik_step_info<T> info;
+    random_source rng(params.seed);
+    const auto clamps = detail::residual_clamps(tree, goals, params);
+
+    ik_result<T> best;
+    best.q = params.limits ? tree.clamp(q0) : q0;
+    T best_score = std::numeric_limits<T>::infinity();
+    bool singular = false, stationary = false;
+
+    for (int attempt = 0; attempt <= params.restarts; ++attempt) {
+        ik_vector<T> q = attempt == 0 ? best.q : detail::random_pose(tree, q0, rng);
+        if (params.limits) q = tree.clamp(q);
+        ++best.attempts;
+        T last_score = std::numeric_limits<T>::infinity();
+        int slow = 0;
+        for (int it = 0;; ++it) {
+            tree.forward_unchecked(q, s);
+            goal_residual(s, goals, r, &errors);
+            const auto sum = detail::summarise(errors, params);
+            if (sum.score < best_score) {
+                best_score = sum.score;
+                best.q = q;
+            }
+            if (sum.score <= T(1) || it == params.max_iterations) break;
+            // No progress for a while: a local minimum (or an unreachable
+            // target's closest pose); a restart has better odds.
+            slow = sum.score > last_score * T(0.999) ? slow + 1 : 0;
+            last_score = std::min(last_score, sum.score);
+            if (slow >= 8) {
+                stationary = true;
+                break;
+            }
+            ++best.iterations;
+            goal_jacobian(tree, q, s, goals, jac);
+            detail::clamp_residual(goals, clamps, r);
+
+            // Limits inside the step: DOFs at a limit that the step pushes
+            // outward lose their column, and the step is recomputed.
+            std::vector<bool> locked(static_cast<std::size_t>(n), false);
+            jm = jac;
+            for (int pass = 0; pass < 4; ++pass) {
+                info = ik_step_info<T>{};
+                rule(jm, r, dq, info);
+                if (info.singular && !info.singular_values.size() && dq.isZero()) singular = true;
+                dq *= params.step_scale;
+                if (use_null) {
+                    z = params.null_space.gain * (params.null_space.reference - q);
+                    for (int k = 0; k < n; ++k)
+                        if (locked[static_cast<std::size_t>(k)]) z[k] = T(0);
+                    jz = jm * z;
+                    ik_step_info<T> ninfo;
+                    rule(jm, jz, zstep, ninfo);
+                    dq += z - zstep;
+                }
+                for (int k = 0; k < n; ++k)
+                    if (locked[static_cast<std::size_t>(k)]) dq[k] = T(0);
+                if (params.max_step > T(0)) {
+                    const T big = dq.cwiseAbs().maxCoeff();
+                    if (big > params.max_step) dq *= params.max_step / big;
+                }
+                if (!params.limits) break;
+                bool more = false;
+                for (int k = 0; k < n; ++k) {
+                    const auto ku = static_cast<std::size_t>(k);
+                    if (locked[ku]) continue;
+                    const T next = q[k] + dq[k];
+                    if (next < tree.lower()[k] || next > tree.upper()[k]) {
+                        const T at = next < tree.lower()[k] ? tree.lower()[k] : tree.upper()[k];
+                        // Move the DOF onto its limit, then keep it there.
+                        r -= jm.col(k) * (at - q[k]);
+                        q[k] = at;
+                        locked[ku] = true;
+                        jm.col(k).setZero();
+                        more = true;
+                    }
+                }
+                if (!more) break;
+            }
+            if (!dq.allFinite()) break;  // defensive: a rule that failed keeps the best pose
+            q += dq;
+            if (params.limits) q = tree.clamp(q);
+            tree.wrap(q);
+            best.singular_values = info.singular_values;
+            best.damping = info.damping;
+            if (singular) break;
+        }
+        if (best_score <= T(1) || singular) break;
+    }
+
+    evaluate_ik(tree, goals, best);
+    if (best_score <= T(1)) best.status = ik_status::converged;
+    else if (singular) best.status = ik_status::singular;
+    else if (stationary) best.status = ik_status::unreachable_closest;
+    else best.status = ik_status::max_iterations;
+    return best;
+}
+
+}  // namespace anima

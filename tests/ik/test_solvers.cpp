@@ -1,0 +1,327 @@
+// The Jacobian solvers (inverse, pseudo-inverse, DLS fixed and adaptive,
+// weighted, null-space task) and quaternion CCD: reachable random targets
+// on a 7-DOF arm and on CMU limbs converge to 1e-5 of the reach, limits
+// hold, singular and unreachable cases end as documented, bad input throws.
+#include "ik_test_support.hpp"
+#include "../test_support.hpp"
+
+#include <anima/bvh.hpp>
+#include <anima/ik.hpp>
+#include <anima/motion.hpp>
+
+#include <doctest/doctest.h>
+
+#include <glm/ext/quaternion_double.hpp>
+#include <glm/ext/quaternion_float.hpp>
+
+using namespace anima;
+using anima_test::bundled;
+using anima_test::tolerance;
+using anima_ik_test::random_q;
+
+namespace {
+
+template <class T>
+using vec3 = Eigen::Matrix<T, 3, 1>;
+
+/// Solves `trials` reachable random targets of the arm's tip with `solve`
+/// (a callable (tree, goals, q0) -> result) and returns the success count;
+/// every result must be finite and within limits.
+template <class T, class Solve>
+int arm_successes(const kinematic_tree<T>& arm, int trials, T tol, Solve&& solve) {
+    random_source rng(42);
+    int ok = 0;
+    for (int t = 0; t < trials; ++t) {
+        const auto goal_q = random_q(arm, rng);
+        const auto q0 = random_q(arm, rng);
+        std::vector<ik_goal<T>> goals{
+            position_goal<T>(6, anima_ik_test::point_at(arm, goal_q, 6, anima_ik_test::arm_tip<T>()),
+                             anima_ik_test::arm_tip<T>())};
+        const auto r = solve(arm, goals, q0);
+        CHECK(r.q.allFinite());
+        CHECK(arm.within_limits(r.q));
+        CHECK(std::isfinite(r.max_position_error));
+        // The reported error is the real one.
+        CHECK(std::abs(r.max_position_error -
+                       (anima_ik_test::point_at(arm, r.q, 6, anima_ik_test::arm_tip<T>()) - goals[0].position).norm()) <
+              tolerance<T>(1e-12, 1e-5));
+        if (r.converged()) {
+            ++ok;
+            CHECK(r.max_position_error <= tol);
+        }
+    }
+    return ok;
+}
+
+template <class T>
+ik_params<T> arm_params() {
+    ik_params<T> p;
+    p.tolerance = T(1e-5) * T(1.2);  // 1e-5 of the reach
+    p.max_iterations = 100;
+    p.restarts = 5;
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("7-DOF arm: every Jacobian rule and CCD reach random reachable targets within limits", T, double,
+                   float) {
+    const auto arm = anima_ik_test::seven_dof_arm<T>();
+    auto p = arm_params<T>();
+    if (std::is_same_v<T, float>) p.tolerance = T(2e-5);  // float FK carries ~1e-6 rounding
+    const int trials = 40;
+    const auto run = [&](auto rule) {
+        return arm_successes(arm, trials, p.tolerance, [&](const auto& a, const auto& g, const auto& q0) {
+            return solve_ik(a, g, q0, rule, p);
+        });
+    };
+    CHECK(run(pseudo_inverse<T>{}) >= trials - 1);
+    typename damped_least_squares<T>::params adaptive;
+    adaptive.adaptive = true;
+    CHECK(run(damped_least_squares<T>(adaptive)) >= trials - 1);
+    typename damped_least_squares<T>::params fixed;
+    fixed.damping = T(0.01);
+    CHECK(run(damped_least_squares<T>(fixed)) >= trials - 2);
+    ik_vector<T> w(7);
+    w << T(4), T(1), T(1), T(1), T(1), T(1), T(0.5);
+    CHECK(run(weighted_rule<T, damped_least_squares<T>>(w, damped_least_squares<T>(adaptive))) >= trials - 2);
+    auto pc = p;
+    pc.max_iterations = 300;
+    const int ccd = arm_successes(arm, trials, p.tolerance, [&](const auto& a, const auto& g, const auto& q0) {
+        return solve_ik_ccd(a, g, q0, pc);
+    });
+    CHECK(ccd >= trials * 3 / 4);
+    bfgs_ik_params<T> pb;
+    pb.ik = p;
+    pb.ik.max_iterations = 200;
+    const int bfgs = arm_successes(arm, trials, p.tolerance, [&](const auto& a, const auto& g, const auto& q0) {
+        return solve_ik_bfgs(a, g, q0, pb);
+    });
+    CHECK(bfgs >= trials - 2);
+}
+
+TEST_CASE_TEMPLATE("jacobian_inverse: square regular chain converges; a singular one says so", T, double, float) {
+    // Base yaw, shoulder and elbow pitch: 3 DOFs for a 3D position.
+    skeleton<T> sk;
+    sk.add_joint("base", -1, vec3<T>::Zero(), {channel::z_rotation});
+    sk.add_joint("shoulder", 0, vec3<T>(0, 0, T(0.2)), {channel::y_rotation});
+    sk.add_joint("elbow", 1, vec3<T>(0, 0, T(0.5)), {channel::y_rotation});
+    kinematic_tree<T> tree(sk);
+    tree.set_hinge(0, vec3<T>::UnitZ());
+    tree.set_hinge(1, vec3<T>::UnitY());
+    tree.set_hinge(2, vec3<T>::UnitY());
+    const vec3<T> tip(0, 0, T(0.4));
+    ik_vector<T> q0(3), qg(3);
+    q0 << T(0.1), T(0.4), T(0.8);
+    qg << T(0.5), T(0.2), T(1.1);
+    std::vector<ik_goal<T>> goals{position_goal<T>(2, anima_ik_test::point_at(tree, qg, 2, tip), tip)};
+    ik_params<T> p;
+    p.tolerance = tolerance<T>(1e-9, 2e-6);
+    const auto r = solve_ik(tree, goals, q0, jacobian_inverse<T>{}, p);
+    CHECK(r.converged());
+    CHECK(r.iterations <= 10);  // Newton: quadratic convergence
+    // Straight up, the base yaw moves nothing: J has a zero column.
+    const auto s = solve_ik(tree, goals, ik_vector<T>::Zero(3), jacobian_inverse<T>{}, p);
+    CHECK(s.status == ik_status::singular);
+    CHECK(s.q.allFinite());
+    // A non-square J is refused with a message saying what to use instead.
+    goals.push_back(goals[0]);
+    CHECK(anima_test::contains(
+        anima_test::invalid_argument_message([&] { (void)solve_ik(tree, goals, q0, jacobian_inverse<T>{}, p); }),
+        "not square"));
+}
+
+TEST_CASE_TEMPLATE("singular and unreachable: stretched arm, target out of reach", T, double, float) {
+    const auto arm = anima_ik_test::seven_dof_arm<T>();
+    const ik_vector<T> straight = ik_vector<T>::Zero(7);  // fully stretched along +z: J loses rank
+    const T reach = T(1.2);
+    // Target further along the stretched direction: unreachable.
+    std::vector<ik_goal<T>> far{position_goal<T>(6, vec3<T>(0, 0, T(1.5)), anima_ik_test::arm_tip<T>())};
+    typename damped_least_squares<T>::params adaptive;
+    adaptive.adaptive = true;
+    const auto r = solve_ik(arm, far, straight, damped_least_squares<T>(adaptive), arm_params<T>());
+    CHECK(r.status == ik_status::unreachable_closest);
+    CHECK(r.q.allFinite());
+    CHECK(r.max_position_error == doctest::Approx(1.5 - 1.2).epsilon(1e-4));
+    // The stretched arm's Jacobian has rank 2: its third singular value is 0.
+    auto once = arm_params<T>();
+    once.max_iterations = 1;
+    once.restarts = 0;
+    const auto first = solve_ik(arm, far, straight, pseudo_inverse<T>{}, once);
+    REQUIRE(first.singular_values.size() == 3);
+    // Straight up, only the three y hinges move the tip, all along x: rank 1.
+    CHECK(first.singular_values[0] > T(0.1));
+    CHECK(first.singular_values[1] < tolerance<T>(1e-12, 1e-5));
+    // Target sideways from a stretched start: pinv and DLS both leave the
+    // singular pose and converge, without NaN.
+    std::vector<ik_goal<T>> side{position_goal<T>(6, vec3<T>(T(0.5), T(0.2), T(0.6)), anima_ik_test::arm_tip<T>())};
+    for (const auto& rr : {solve_ik(arm, side, straight, pseudo_inverse<T>{}, arm_params<T>()),
+                           solve_ik(arm, side, straight, damped_least_squares<T>(adaptive), arm_params<T>())}) {
+        CHECK(rr.q.allFinite());
+        CHECK(rr.converged());
+    }
+    // A target far away elsewhere: Gauss-Newton approaches the closest pose
+    // (arm pointing at it) slowly and says it stopped short.
+    std::vector<ik_goal<T>> away{position_goal<T>(6, vec3<T>(T(3), T(1), T(2)), anima_ik_test::arm_tip<T>())};
+    auto p = arm_params<T>();
+    p.restarts = 0;
+    const auto u = solve_ik(arm, away, straight, damped_least_squares<T>(adaptive), p);
+    CHECK(u.status == ik_status::unreachable_closest);
+    CHECK(u.max_position_error >= away[0].position.norm() - reach - T(1e-5));
+    CHECK(u.max_position_error < T(1.1) * (away[0].position.norm() - reach));
+}
+
+TEST_CASE_TEMPLATE("joint limits are held inside the solve and never violated", T, double, float) {
+    auto arm = anima_ik_test::seven_dof_arm<T>();
+    for (int i = 0; i < 7; ++i) arm.set_hinge(static_cast<std::size_t>(i), vec3<T>::Unit(anima_ik_test::arm_axis(i)), T(-0.4), T(0.4));
+    random_source rng(9);
+    int converged = 0, converged_bfgs = 0;
+    for (int t = 0; t < 20; ++t) {
+        const auto qg = random_q(arm, rng);
+        std::vector<ik_goal<T>> goals{
+            position_goal<T>(6, anima_ik_test::point_at(arm, qg, 6, anima_ik_test::arm_tip<T>()), anima_ik_test::arm_tip<T>())};
+        const auto r = solve_ik(arm, goals, ik_vector<T>::Zero(7), pseudo_inverse<T>{}, arm_params<T>());
+        CHECK(arm.within_limits(r.q));
+        converged += r.converged();
+        const auto c = solve_ik_ccd(arm, goals, ik_vector<T>::Zero(7), arm_params<T>());
+        CHECK(arm.within_limits(c.q));
+        bfgs_ik_params<T> pb;
+        pb.ik = arm_params<T>();
+        pb.ik.tolerance = tolerance<T>(1.2e-5, 5e-5);  // float: f = |r|^2 / 2 runs out of digits first
+        const auto b = solve_ik_bfgs(arm, goals, ik_vector<T>::Zero(7), pb);
+        CHECK(arm.within_limits(b.q));
+        converged_bfgs += b.converged();
+    }
+    CHECK(converged >= 18);
+    // In float, BFGS on |r|^2 / 2 stalls near 1e-4 of the reach: only double is held to the tolerance.
+    if (std::is_same_v<T, double>) CHECK(converged_bfgs >= 18);
+    // Target needing joints beyond their limits: the closest pose within them.
+    std::vector<ik_goal<T>> behind{position_goal<T>(6, vec3<T>(0, 0, T(-1)), anima_ik_test::arm_tip<T>())};
+    const auto r = solve_ik(arm, behind, ik_vector<T>::Zero(7), pseudo_inverse<T>{}, arm_params<T>());
+    CHECK_FALSE(r.converged());
+    CHECK(arm.within_limits(r.q));
+}
+
+TEST_CASE_TEMPLATE("null-space task keeps the solution nearer the reference pose", T, double, float) {
+    const auto arm = anima_ik_test::seven_dof_arm<T>();
+    random_source rng(21);
+    T with = 0, without = 0;
+    for (int t = 0; t < 10; ++t) {
+        const ik_vector<T> ref = T(0.5) * random_q(arm, rng);
+        ik_vector<T> qg = ref;
+        qg[1] += T(0.3);
+        qg[3] -= T(0.3);
+        std::vector<ik_goal<T>> goals{
+            position_goal<T>(6, anima_ik_test::point_at(arm, qg, 6, anima_ik_test::arm_tip<T>()), anima_ik_test::arm_tip<T>())};
+        auto p = arm_params<T>();
+        p.restarts = 0;
+        const ik_vector<T> start = ref + T(0.6) * random_q(arm, rng) / T(2.9);  // elsewhere
+        const auto plain = solve_ik(arm, goals, start, pseudo_inverse<T>{}, p);
+        p.null_space.gain = T(0.2);
+        p.null_space.reference = ref;
+        const auto pulled = solve_ik(arm, goals, start, pseudo_inverse<T>{}, p);
+        REQUIRE(plain.converged());
+        REQUIRE(pulled.converged());
+        without += (plain.q - ref).norm();
+        with += (pulled.q - ref).norm();
+    }
+    CHECK(with < T(0.7) * without);
+}
+
+TEST_CASE_TEMPLATE("orientation and pose goals; glm and Eigen quaternions give the same goal", T, double, float) {
+    const auto arm = anima_ik_test::seven_dof_arm<T>();
+    random_source rng(8);
+    const auto qg = random_q(arm, rng);
+    ik_state<T> s;
+    arm.forward(qg, s);
+    const Eigen::Quaternion<T> target = s.orientations[6];
+    glm::qua<T> gq;
+    gq.w = target.w();
+    gq.x = target.x();
+    gq.y = target.y();
+    gq.z = target.z();
+    CHECK(orientation_goal(6, gq).orientation.coeffs() == orientation_goal(6, target).orientation.coeffs());
+    std::vector<ik_goal<T>> goals{pose_goal(6, anima_ik_test::point_at(arm, qg, 6, anima_ik_test::arm_tip<T>()), gq, T(0.5))};
+    goals[0].offset = anima_ik_test::arm_tip<T>();
+    auto p = arm_params<T>();
+    p.angle_tolerance = tolerance<T>(1e-7, 1e-4);
+    p.tolerance = tolerance<T>(1e-6, 3e-5);
+    typename damped_least_squares<T>::params adaptive;
+    adaptive.adaptive = true;
+    const auto r = solve_ik(arm, goals, ik_vector<T>::Zero(7), damped_least_squares<T>(adaptive), p);
+    CHECK(r.converged());
+    CHECK(r.max_angle_error <= p.angle_tolerance);
+    CHECK(anima_test::contains(anima_test::invalid_argument_message([&] {
+                                   (void)solve_ik_ccd(arm, goals, ik_vector<T>::Zero(7), p);
+                               }),
+                               "position goals only"));
+}
+
+TEST_CASE_TEMPLATE("CMU limbs and the whole body reach real poses' effector positions", T, double, float) {
+    const auto walk = read_bvh<T>(bundled("walk_cmu31_02_01.bvh"));
+    const auto& sk = walk.skeleton();
+    const vec3<T> hand_tip = sk[sk.index_of("LeftFingerBase")].offset;
+    const auto arm = anima_ik_test::cmu_left_arm(walk);
+    const T reach = anima_ik_test::chain_length(sk, sk.index_of("LeftArm"), sk.index_of("LeftHand"), hand_tip);
+    auto p = arm_params<T>();
+    p.tolerance = (std::is_same_v<T, float> ? T(1e-4) : T(1e-5)) * reach;
+    typename damped_least_squares<T>::params adaptive;
+    adaptive.adaptive = true;
+    adaptive.threshold = T(0.1) * reach;
+    adaptive.damping = T(0.05) * reach;
+    random_source rng(4);
+    int ok = 0;
+    for (int t = 0; t < 30; ++t) {
+        const auto qg = random_q(arm, rng);
+        std::vector<ik_goal<T>> goals{position_goal<T>(sk.index_of("LeftHand"),
+                                                       anima_ik_test::point_at(arm, qg, sk.index_of("LeftHand"), hand_tip), hand_tip)};
+        const auto r = solve_ik(arm, goals, arm.pose_of(walk, 0), damped_least_squares<T>(adaptive), p);
+        CHECK(arm.within_limits(r.q));
+        ok += r.converged();
+    }
+    CHECK(ok >= 29);
+
+    // Whole body, root free: both hands and feet to frame 250's positions from frame 30's pose.
+    kinematic_tree<T> body(sk);
+    body.set_root_translation(true);
+    body.set_base(walk, 30);
+    const auto truth = forward_kinematics(walk, 250);
+    std::vector<ik_goal<T>> goals;
+    for (const char* name : {"LeftHand", "RightHand", "LeftFoot", "RightFoot"})
+        goals.push_back(position_goal<T>(sk.index_of(name), truth.positions[sk.index_of(name)]));
+    auto pb = p;
+    pb.tolerance = (std::is_same_v<T, float> ? T(1e-4) : T(1e-5)) * T(30);  // body height ~30 units
+    const auto r = solve_ik(body, goals, body.pose_of(walk, 30), pseudo_inverse<T>{}, pb);
+    CHECK(r.converged());
+    auto out = walk;
+    body.write_pose(r.q, out, 30);
+    const auto solved = forward_kinematics(out, 30);
+    for (const auto& g : goals) CHECK((solved.positions[g.joint] - g.position).norm() <= pb.tolerance * T(1.01));
+}
+
+TEST_CASE_TEMPLATE("solvers refuse bad goals, poses and parameters naming them", T, double, float) {
+    const auto arm = anima_ik_test::seven_dof_arm<T>();
+    const ik_vector<T> q0 = ik_vector<T>::Zero(7);
+    std::vector<ik_goal<T>> goals{position_goal<T>(6, vec3<T>(T(0.3), 0, T(0.5)))};
+    const auto msg = [&](auto&& f) { return anima_test::invalid_argument_message(f); };
+    CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, {}, q0, pseudo_inverse<T>{}); }), "no goals"));
+    auto nan_goal = goals;
+    nan_goal[0].position.x() = std::numeric_limits<T>::quiet_NaN();
+    CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, nan_goal, q0, pseudo_inverse<T>{}); }), "non-finite"));
+    auto bad_joint = goals;
+    bad_joint[0].joint = 99;
+    CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, bad_joint, q0, pseudo_inverse<T>{}); }), "99"));
+    CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, goals, ik_vector<T>::Zero(4), pseudo_inverse<T>{}); }),
+                               "4 DOFs"));
+    ik_params<T> p;
+    p.tolerance = T(-1);
+    CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, goals, q0, pseudo_inverse<T>{}, p); }), "tolerance"));
+    p = ik_params<T>{};
+    p.null_space.gain = T(1);
+    p.null_space.reference = ik_vector<T>::Zero(3);
+    CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, goals, q0, pseudo_inverse<T>{}, p); }), "null_space"));
+    ik_vector<T> w = ik_vector<T>::Ones(7);
+    w[2] = T(0);
+    CHECK(anima_test::contains(msg([&] { (void)weighted_rule<T, pseudo_inverse<T>>(w); }), "weight 2"));
+    CHECK(std::string(to_string(ik_status::unreachable_closest)) == "unreachable_closest");
+}
