@@ -1,10 +1,11 @@
 // anima ik IN.bvh --frame F --effector NAME --target X,Y,Z [...] -o OUT.bvh:
 // solves frame F's pose so that each named joint reaches its target and
 // writes the clip with that frame replaced. --offset NAME --frames A-B --by
-// X,Y,Z instead moves a joint by an offset over a frame range, frame by
-// frame, each solve warm-started from the previous solution and pulled
-// toward the original frame's pose in the null space so the result stays
-// smooth.
+// X,Y,Z instead moves a joint by an offset over a frame range, and
+// --targets FILE.csv gives world targets per frame (lines
+// "frame,effector,x,y,z"); both solve frame by frame, each solve
+// warm-started from the previous frame's solution and pulled toward the
+// original frame's pose in the null space so the result stays smooth.
 #include "commands.hpp"
 #include "common.hpp"
 
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -25,7 +27,7 @@ namespace anima_cli {
 namespace {
 
 struct ik_options {
-    std::string input, output, solver = "dls", offset, frames, by, model_out;
+    std::string input, output, solver = "dls", offset, frames, by, model_out, targets_file;
     std::size_t frame = 0;
     std::vector<std::string> effectors, targets, train;
     int iterations = 100, restarts = 3;
@@ -48,6 +50,49 @@ double body_scale(const clip_t& c) {
     Eigen::AlignedBox3d box;
     for (const auto& p : pose.positions) box.extend(p);
     return std::max(box.diagonal().norm(), 1e-9);
+}
+
+using frame_targets = std::map<std::size_t, std::vector<std::pair<std::string, vec3>>>;
+
+/// Reads "frame,effector,x,y,z" lines ('#' starts a comment, blank lines
+/// are skipped); errors name the file and line.
+frame_targets read_targets(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw failure("cannot open '" + path + "'");
+    frame_targets targets;
+    std::string line;
+    for (std::size_t number = 1; std::getline(in, line); ++number) {
+        const auto hash = line.find('#');
+        if (hash != std::string::npos) line.erase(hash);
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        std::vector<std::string> fields;
+        std::stringstream cells(line);
+        for (std::string cell; std::getline(cells, cell, ',');) {
+            const auto b = cell.find_first_not_of(" \t\r"), e = cell.find_last_not_of(" \t\r");
+            fields.push_back(b == std::string::npos ? "" : cell.substr(b, e - b + 1));
+        }
+        const auto where = path + ":" + std::to_string(number) + ": ";
+        if (fields.size() != 5) throw failure(where + "expected frame,effector,x,y,z (5 fields), got " + std::to_string(fields.size()));
+        std::size_t frame = 0;
+        vec3 p;
+        try {
+            std::size_t used = 0;
+            if (fields[0].empty() || fields[0][0] == '-') throw std::invalid_argument("negative");
+            frame = std::stoul(fields[0], &used);
+            if (used != fields[0].size()) throw std::invalid_argument("trailing");
+            for (int k = 0; k < 3; ++k) {
+                p[k] = std::stod(fields[2 + k], &used);
+                if (used != fields[2 + k].size()) throw std::invalid_argument("trailing");
+            }
+        } catch (const std::exception&) {
+            throw failure(where + "expected a frame number and three numbers, got '" + line + "'");
+        }
+        if (!p.allFinite()) throw failure(where + "the target is not finite");
+        if (fields[1].empty()) throw failure(where + "the effector name is empty");
+        targets[frame].emplace_back(fields[1], p);
+    }
+    if (targets.empty()) throw failure("'" + path + "' holds no targets");
+    return targets;
 }
 
 struct solver_setup {
@@ -88,19 +133,48 @@ void run_ik(const ik_options& o) {
     s.params.restarts = o.restarts;
 
     const bool offset_mode = !o.offset.empty();
-    std::vector<std::pair<std::string, vec3>> wanted;
-    if (!offset_mode) {
+    const bool file_mode = !o.targets_file.empty();
+    if (offset_mode + file_mode + !o.effectors.empty() > 1)
+        throw CLI::ValidationError("--offset/--targets/--effector", "use one of target, offset and file mode");
+    // Per frame, the effectors and their targets (relative to the joint's
+    // recorded position in offset mode, world positions otherwise).
+    frame_targets per_frame;
+    if (file_mode) {
+        per_frame = read_targets(o.targets_file);
+        if (per_frame.rbegin()->first >= c.frames())
+            throw failure("'" + o.targets_file + "' names frame " + std::to_string(per_frame.rbegin()->first) +
+                          ", outside 0.." + std::to_string(c.frames() - 1));
+    } else if (offset_mode) {
+        const auto dash = o.frames.find('-');
+        std::size_t first = 0, last = 0;
+        try {
+            first = std::stoul(o.frames.substr(0, dash));
+            last = dash == std::string::npos ? first : std::stoul(o.frames.substr(dash + 1));
+        } catch (const std::exception&) {
+            throw CLI::ValidationError("--frames", "expected A-B, got '" + o.frames + "'");
+        }
+        if (first > last || last >= c.frames())
+            throw failure("--frames " + o.frames + " is not within 0.." + std::to_string(c.frames() - 1));
+        const vec3 by = parse_vec3(o.by, "--by");
+        for (std::size_t f = first; f <= last; ++f) per_frame[f].emplace_back(o.offset, by);
+    } else {
         if (o.effectors.empty() || o.effectors.size() != o.targets.size())
             throw CLI::ValidationError("--effector/--target", "give one --target per --effector (" +
                                        std::to_string(o.effectors.size()) + " effectors, " +
                                        std::to_string(o.targets.size()) + " targets)");
-        for (std::size_t i = 0; i < o.effectors.size(); ++i)
-            wanted.emplace_back(o.effectors[i], parse_vec3(o.targets[i], "--target"));
         if (o.frame >= c.frames())
             throw failure("--frame " + std::to_string(o.frame) + " is outside 0.." + std::to_string(c.frames() - 1));
-    } else {
-        wanted.emplace_back(o.offset, parse_vec3(o.by, "--by"));
+        for (std::size_t i = 0; i < o.effectors.size(); ++i)
+            per_frame[o.frame].emplace_back(o.effectors[i], parse_vec3(o.targets[i], "--target"));
     }
+    const bool smooth = offset_mode || file_mode;
+    std::vector<std::pair<std::string, vec3>> wanted;  // every effector named, once
+    for (const auto& entry : per_frame)
+        for (const auto& w : entry.second) {
+            bool seen = false;
+            for (const auto& x : wanted) seen = seen || x.first == w.first;
+            if (!seen) wanted.push_back(w);
+        }
     for (const auto& w : wanted)
         if (!sk.find(w.first)) throw failure("no joint named '" + w.first + "' in '" + o.input + "'");
 
@@ -126,52 +200,43 @@ void run_ik(const ik_options& o) {
         }
     }
 
-    std::size_t first = o.frame, last = o.frame;
-    if (offset_mode) {
-        const auto dash = o.frames.find('-');
-        try {
-            first = std::stoul(o.frames.substr(0, dash));
-            last = dash == std::string::npos ? first : std::stoul(o.frames.substr(dash + 1));
-        } catch (const std::exception&) {
-            throw CLI::ValidationError("--frames", "expected A-B, got '" + o.frames + "'");
-        }
-        if (first > last || last >= c.frames())
-            throw failure("--frames " + o.frames + " is not within 0.." + std::to_string(c.frames() - 1));
-    }
-
+    const std::size_t first = per_frame.begin()->first, last = per_frame.rbegin()->first;
     const clip_t original = c;
     json effectors = json::array();
     int iterations = 0, converged_frames = 0;
     double worst = 0;
     anima::ik_vector<double> previous;
-    for (std::size_t f = first; f <= last; ++f) {
+    std::size_t previous_frame = 0, done = 0;
+    for (const auto& [f, frame_wanted] : per_frame) {
         s.tree.set_base(original, f);
         const auto truth = anima::forward_kinematics(original, f);
         std::vector<anima::ik_goal<double>> goals;
-        for (const auto& w : wanted) {
+        for (const auto& w : frame_wanted) {
             const auto j = sk.index_of(w.first);
             goals.push_back(anima::position_goal<double>(j, offset_mode ? vec3(truth.positions[j] + w.second) : w.second));
         }
         const anima::ik_vector<double> own = s.tree.pose_of(original, f);
         anima::ik_params<double> params = s.params;
-        if (offset_mode) {  // smooth: keep near the original frame, start from the last solution
+        if (smooth) {  // keep near the original frame, start from the last frame's solution
             params.null_space.gain = 0.2;
             params.null_space.reference = own;
             params.restarts = 0;
         }
-        const auto r = run_solver(o, s, goals, previous.size() ? previous : own, params);
+        const bool follows = previous.size() && f == previous_frame + 1;
+        const auto r = run_solver(o, s, goals, follows ? previous : own, params);
         previous = r.q;
+        previous_frame = f;
         s.tree.write_pose(r.q, c, f);
         iterations += r.iterations;
         converged_frames += r.converged();
         worst = std::max(worst, r.max_position_error);
-        if (!offset_mode || f == last)
+        if (!smooth || f == last)
             for (std::size_t i = 0; i < goals.size(); ++i)
-                effectors.push_back({{"name", wanted[i].first},
+                effectors.push_back({{"name", frame_wanted[i].first},
                                      {"error", r.errors[i].position},
                                      {"status", anima::to_string(r.status)}});
-        if (offset_mode && (f - first) % 20 == 0)
-            std::cerr << "anima ik: frame " << f << " of " << first << ".." << last << "\n";
+        if (smooth && ++done % 20 == 0)
+            std::cerr << "anima ik: " << done << " of " << per_frame.size() << " frames solved\n";
     }
     // Largest frame-to-frame joint rotation change (degrees), before and after.
     const auto velocity = [&](const clip_t& m) {
@@ -199,7 +264,7 @@ void run_ik(const ik_options& o) {
         print_json(out);
         return;
     }
-    std::cout << "solved " << (last - first + 1) << " frame" << (last == first ? "" : "s") << " with " << o.solver
+    std::cout << "solved " << per_frame.size() << " frame" << (per_frame.size() == 1 ? "" : "s") << " with " << o.solver
               << ": " << converged_frames << " converged, largest error " << format_number(worst, 3) << " (tolerance "
               << format_number(s.params.tolerance, 3) << "), " << iterations << " iterations, "
               << format_number(seconds, 3) << " s\n";
@@ -219,6 +284,8 @@ void register_ik(CLI::App& app) {
     sub->add_option("--offset", o->offset, "Offset mode: the joint to move by --by over --frames");
     sub->add_option("--frames", o->frames, "Offset mode: frame range A-B");
     sub->add_option("--by", o->by, "Offset mode: displacement X,Y,Z in the clip's units");
+    sub->add_option("--targets", o->targets_file, "File mode: CSV of frame,effector,x,y,z world targets")
+        ->check(CLI::ExistingFile);
     sub->add_option("--solver", o->solver, "pinv, dls (adaptive damping), ccd, bfgs or learned")
         ->check(CLI::IsMember({"pinv", "dls", "ccd", "bfgs", "learned"}));
     sub->add_option("--train", o->train, "Clips to learn the Jacobian inverse from (learned solver)");
