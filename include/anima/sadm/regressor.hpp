@@ -6,6 +6,7 @@
 #include <anima/core/error.hpp>
 #include <anima/sadm/detail/regress_io.hpp>
 #include <anima/sadm/linear_regressor.hpp>
+#include <anima/sadm/mlp_regressor.hpp>
 #include <anima/sadm/polynomial_regressor.hpp>
 #include <anima/sadm/regressor_base.hpp>
 #include <anima/sadm/svr_regressor.hpp>
@@ -25,10 +26,9 @@ std::unique_ptr<regressor<T>> make_regressor(regressor_kind kind, const regresso
         case regressor_kind::linear: return std::make_unique<linear_regressor<T>>(options.linear);
         case regressor_kind::poly2: return std::make_unique<polynomial_regressor<T>>(options.poly2);
         case regressor_kind::svr: return std::make_unique<svr_regressor<T>>(options.svr, options.progress);
-        case regressor_kind::mlp: break;
+        case regressor_kind::mlp: return std::make_unique<mlp_regressor<T>>(options.mlp, options.progress);
     }
-    throw invalid_argument("anima::make_regressor: regressor '" + std::string(to_string(kind)) +
-                           "' is not available in this version");
+    throw invalid_argument("anima::make_regressor: unknown regressor kind " + std::to_string(static_cast<int>(kind)));
 }
 
 /// Reads what regressor::save wrote. source names the stream in errors,
@@ -52,9 +52,9 @@ std::unique_ptr<regressor<T>> load_regressor(std::istream& in, const std::string
         case regressor_kind::poly2:
             return std::make_unique<polynomial_regressor<T>>(polynomial_regressor<T>::read_body(reader));
         case regressor_kind::svr: return std::make_unique<svr_regressor<T>>(svr_regressor<T>::read_body(reader));
-        case regressor_kind::mlp: break;
+        case regressor_kind::mlp: return std::make_unique<mlp_regressor<T>>(mlp_regressor<T>::read_body(reader));
     }
-    reader.fail("regressor kind '" + header[1] + "' is not available in this version");
+    reader.fail("unknown regressor kind '" + header[1] + "'");
 }
 
 }  // namespace anima

@@ -113,13 +113,14 @@ public:
     /// A finite number token, read at full precision for T.
     template <class T>
     T parse_value(const std::string& token, const char* what) const {
-        errno = 0;
         char* end = nullptr;
         T v;
         if constexpr (std::is_same_v<T, float>) v = std::strtof(token.c_str(), &end);
         else if constexpr (std::is_same_v<T, double>) v = std::strtod(token.c_str(), &end);
         else v = static_cast<T>(std::strtold(token.c_str(), &end));
-        if (token.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(static_cast<double>(v)))
+        // Underflow (ERANGE with a tiny or subnormal result) is the exact value
+        // a saved subnormal reads back as; overflow shows as infinity.
+        if (token.empty() || *end != '\0' || !std::isfinite(static_cast<double>(v)))
             fail(std::string("bad ") + what + " value '" + token + "'");
         return v;
     }

@@ -1,6 +1,8 @@
 // Per-column standardisation (x - mean) / scale, kept with a model so that
-// prediction applies exactly what training did. A constant column keeps
-// scale 1: it carries no information and must not divide by zero.
+// prediction applies exactly what training did. A constant column (spread
+// within rounding of its values) gets scale 0: apply only centres it, and
+// invert maps anything back to the constant, so a model predicts a constant
+// output exactly instead of amplifying rounding noise.
 #pragma once
 
 #include <anima/sadm/detail/regress_io.hpp>
@@ -8,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <limits>
 #include <ostream>
 #include <string>
 
@@ -28,13 +31,15 @@ struct regress_standardizer {
         s.scale.resize(m.cols());
         for (Eigen::Index c = 0; c < m.cols(); ++c) {
             const T sd = std::sqrt((m.col(c).array() - s.mean(c)).square().mean());
-            s.scale(c) = sd > T(0) ? sd : T(1);
+            const T rounding = T(16) * std::numeric_limits<T>::epsilon() * m.col(c).cwiseAbs().maxCoeff();
+            s.scale(c) = sd > rounding ? sd : T(0);
         }
         return s;
     }
 
     matrix apply(const matrix& m) const {
-        return ((m.rowwise() - mean).array().rowwise() / scale.array()).matrix();
+        const row divisor = (scale.array() > T(0)).select(scale, row::Ones(scale.size()));
+        return ((m.rowwise() - mean).array().rowwise() / divisor.array()).matrix();
     }
 
     matrix invert(const matrix& m) const {
@@ -51,7 +56,7 @@ struct regress_standardizer {
         s.mean = in.read_values<T>((key + "_mean").c_str(), size);
         s.scale = in.read_values<T>((key + "_scale").c_str(), size);
         for (Eigen::Index c = 0; c < size; ++c)
-            if (!(s.scale(c) > T(0))) in.fail("'" + key + "_scale' must be positive");
+            if (s.scale(c) < T(0)) in.fail("'" + key + "_scale' must not be negative");
         return s;
     }
 };
