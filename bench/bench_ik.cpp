@@ -11,7 +11,9 @@
 // One benchmark iteration solves all 1,000 targets; items_per_second is
 // solves per second and the `success` counter the fraction solved to
 // position error <= 1e-5 x reach and orientation error <= 1e-5 rad within the
-// iteration cap (100 per attempt; anima: up to 5 random restarts).
+// iteration cap (100 per attempt; anima: up to 5 random restarts). For KDL,
+// `success_within_limits` also requires the joints within the chain's limits
+// (LMA does not know them; anima's solvers and NR_JL never leave them).
 // CCD only takes position goals and is timed on the positions alone.
 
 #include "../tests/ik/ik_test_support.hpp"
@@ -195,6 +197,13 @@ void BM_ik_anima_bfgs(benchmark::State& state) {
         return anima::solve_ik_bfgs(p.tree, g, q0, b);
     });
 }
+void BM_ik_anima_levenberg_marquardt(benchmark::State& state) {
+    run_anima(state, true, [](const problem& p, const auto& g, const auto& q0) {
+        anima::levenberg_marquardt_ik_params<double> l;
+        l.ik = params_for(p);
+        return anima::solve_ik_levenberg_marquardt(p.tree, g, q0, l);
+    });
+}
 void BM_ik_anima_ccd_position_only(benchmark::State& state) {
     run_anima(state, false, [](const problem& p, const auto& g, const auto& q0) {
         auto prm = params_for(p);
@@ -226,19 +235,25 @@ void run_kdl(benchmark::State& state, MakeSolver&& make) {
     KDL::JntArray out(p.chain.getNrOfJoints());
     std::vector<KDL::Frame> targets;
     for (int i = 0; i < target_count; ++i) targets.push_back(kdl_target(p, i));
-    int ok = 0, solves = 0;
+    int ok = 0, ok_within = 0, solves = 0;
     for (auto _ : state) {
-        ok = 0;
+        ok = ok_within = 0;
         for (int i = 0; i < target_count; ++i) {
             const int rc = solver->CartToJnt(p.kdl_starts[static_cast<std::size_t>(i)], targets[static_cast<std::size_t>(i)], out);
             state.PauseTiming();
-            ok += rc >= 0 && kdl_success(p, fk, out, targets[static_cast<std::size_t>(i)]);
+            const bool success = rc >= 0 && kdl_success(p, fk, out, targets[static_cast<std::size_t>(i)]);
+            ok += success;
+            // LMA ignores joint limits; anima's solvers never leave them.
+            bool within = true;
+            for (unsigned k = 0; k < out.rows(); ++k) within = within && out(k) >= p.lower(k) && out(k) <= p.upper(k);
+            ok_within += success && within;
             state.ResumeTiming();
         }
         solves += target_count;
     }
     state.SetItemsProcessed(solves);
     state.counters["success"] = static_cast<double>(ok) / target_count;
+    state.counters["success_within_limits"] = static_cast<double>(ok_within) / target_count;
 }
 
 void BM_ik_kdl_lma(benchmark::State& state) {
@@ -262,6 +277,7 @@ BENCHMARK(BM_ik_kdl_nr_jl)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMill
 BENCHMARK(BM_ik_anima_pinv)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_dls_adaptive)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_bfgs)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ik_anima_levenberg_marquardt)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_ccd_position_only)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -109,6 +109,11 @@ anima::ik_result<double> run_solver(const ik_options& o, const solver_setup& s,
     if (o.solver == "pinv") return anima::solve_ik(s.tree, goals, q0, anima::pseudo_inverse<double>{}, params);
     if (o.solver == "dls") return anima::solve_ik(s.tree, goals, q0, anima::damped_least_squares<double>(d), params);
     if (o.solver == "ccd") return anima::solve_ik_ccd(s.tree, goals, q0, params);
+    if (o.solver == "lm") {
+        anima::levenberg_marquardt_ik_params<double> l;
+        l.ik = params;
+        return anima::solve_ik_levenberg_marquardt(s.tree, goals, q0, l);
+    }
     if (o.solver == "bfgs") {
         anima::bfgs_ik_params<double> b;
         b.ik = params;
@@ -286,8 +291,8 @@ void register_ik(CLI::App& app) {
     sub->add_option("--by", o->by, "Offset mode: displacement X,Y,Z in the clip's units");
     sub->add_option("--targets", o->targets_file, "File mode: CSV of frame,effector,x,y,z world targets")
         ->check(CLI::ExistingFile);
-    sub->add_option("--solver", o->solver, "pinv, dls (adaptive damping), ccd, bfgs or learned")
-        ->check(CLI::IsMember({"pinv", "dls", "ccd", "bfgs", "learned"}));
+    sub->add_option("--solver", o->solver, "pinv, dls (adaptive damping), ccd, bfgs, lm (Levenberg-Marquardt) or learned")
+        ->check(CLI::IsMember({"pinv", "dls", "ccd", "bfgs", "lm", "learned"}));
     sub->add_option("--train", o->train, "Clips to learn the Jacobian inverse from (learned solver)");
     sub->add_option("--save-model", o->model_out, "Write the learned model to this file");
     sub->add_option("--tolerance", o->tolerance, "Position tolerance relative to the body scale")

@@ -10,6 +10,7 @@
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>
 #include <anima/ik/learned_inverse.hpp>
+#include <anima/ik/levenberg_marquardt_ik.hpp>
 #include <anima/ik/pose_statistics.hpp>
 #include <anima/ik/solve.hpp>
 #include <anima/ik/step_rules.hpp>

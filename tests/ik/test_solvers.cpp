@@ -98,6 +98,12 @@ TEST_CASE_TEMPLATE("7-DOF arm: every Jacobian rule and CCD reach random reachabl
         return solve_ik_bfgs(a, g, q0, pb);
     });
     CHECK(bfgs >= trials - 2);
+    levenberg_marquardt_ik_params<T> pl;
+    pl.ik = p;
+    const int lm = arm_successes(arm, trials, p.tolerance, [&](const auto& a, const auto& g, const auto& q0) {
+        return solve_ik_levenberg_marquardt(a, g, q0, pl);
+    });
+    CHECK(lm >= trials - 1);
 }
 
 TEST_CASE_TEMPLATE("jacobian_inverse: square regular chain converges; a singular one says so", T, double, float) {
@@ -160,6 +166,19 @@ TEST_CASE_TEMPLATE("singular and unreachable: stretched arm, target out of reach
         CHECK(rr.q.allFinite());
         CHECK(rr.converged());
     }
+    // Levenberg-Marquardt from the singular pose: the closest pose for the
+    // unreachable target, convergence for the sideways one.
+    levenberg_marquardt_ik_params<T> pl;
+    pl.ik = arm_params<T>();
+    const auto lf = solve_ik_levenberg_marquardt(arm, far, straight, pl);
+    CHECK(lf.status != ik_status::converged);
+    CHECK(lf.q.allFinite());
+    CHECK(lf.max_position_error == doctest::Approx(1.5 - 1.2).epsilon(1e-3));
+    const auto ls = solve_ik_levenberg_marquardt(arm, side, straight, pl);
+    CHECK(ls.q.allFinite());
+    CHECK(ls.converged());
+    pl.initial_damping = T(0);
+    CHECK_THROWS_AS(solve_ik_levenberg_marquardt(arm, side, straight, pl), anima::invalid_argument);
     // A target far away elsewhere: Gauss-Newton approaches the closest pose
     // (arm pointing at it) slowly and says it stopped short.
     std::vector<ik_goal<T>> away{position_goal<T>(6, vec3<T>(T(3), T(1), T(2)), anima_ik_test::arm_tip<T>())};
@@ -175,7 +194,7 @@ TEST_CASE_TEMPLATE("joint limits are held inside the solve and never violated", 
     auto arm = anima_ik_test::seven_dof_arm<T>();
     for (int i = 0; i < 7; ++i) arm.set_hinge(static_cast<std::size_t>(i), vec3<T>::Unit(anima_ik_test::arm_axis(i)), T(-0.4), T(0.4));
     random_source rng(9);
-    int converged = 0, converged_bfgs = 0;
+    int converged = 0, converged_bfgs = 0, converged_lm = 0;
     for (int t = 0; t < 20; ++t) {
         const auto qg = random_q(arm, rng);
         std::vector<ik_goal<T>> goals{
@@ -191,7 +210,14 @@ TEST_CASE_TEMPLATE("joint limits are held inside the solve and never violated", 
         const auto b = solve_ik_bfgs(arm, goals, ik_vector<T>::Zero(7), pb);
         CHECK(arm.within_limits(b.q));
         converged_bfgs += b.converged();
+        levenberg_marquardt_ik_params<T> pl;
+        pl.ik = arm_params<T>();
+        const auto l = solve_ik_levenberg_marquardt(arm, goals, ik_vector<T>::Zero(7), pl);
+        CHECK(arm.within_limits(l.q));
+        CHECK(l.q.allFinite());
+        converged_lm += l.converged();
     }
+    CHECK(converged_lm >= 18);
     CHECK(converged >= 18);
     // In float, BFGS on |r|^2 / 2 stalls near 1e-4 of the reach: only double is held to the tolerance.
     if (std::is_same_v<T, double>) CHECK(converged_bfgs >= 18);

@@ -1,0 +1,105 @@
+// What the optimisation-based IK solvers (BFGS, Levenberg-Marquardt) share:
+// joint limits by a smooth reparametrisation, the goal-tolerance stopping
+// value, and the attempts loop with random restarts.
+#pragma once
+
+#include <anima/core/random.hpp>
+#include <anima/ik/goal.hpp>
+#include <anima/ik/kinematic_tree.hpp>
+#include <anima/ik/solve.hpp>
+#include <anima/optimize/result.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace anima::detail {
+
+/// A DOF limited on both sides is q = mid + half sin(u), so every u is
+/// feasible and the optimiser runs unconstrained; one-sided or unlimited
+/// DOFs are optimised directly (and clamped at the end).
+template <class T>
+struct sine_limits {
+    const ik_vector<T>& lo;
+    const ik_vector<T>& hi;
+    std::vector<bool> boxed;
+
+    sine_limits(const kinematic_tree<T>& tree, bool limits)
+        : lo(tree.lower()), hi(tree.upper()), boxed(static_cast<std::size_t>(tree.dofs()), false) {
+        if (!limits) return;
+        for (int k = 0; k < tree.dofs(); ++k)
+            boxed[static_cast<std::size_t>(k)] = std::isfinite(lo[k]) && std::isfinite(hi[k]) && hi[k] > lo[k];
+    }
+    bool is_boxed(int k) const { return boxed[static_cast<std::size_t>(k)]; }
+    ik_vector<T> to_q(const ik_vector<T>& u) const {
+        ik_vector<T> q = u;
+        for (int k = 0; k < q.size(); ++k)
+            if (is_boxed(k)) q[k] = (lo[k] + hi[k]) / T(2) + (hi[k] - lo[k]) / T(2) * std::sin(u[k]);
+        return q;
+    }
+    ik_vector<T> to_u(const ik_vector<T>& q) const {
+        ik_vector<T> u = q;
+        for (int k = 0; k < q.size(); ++k)
+            if (is_boxed(k)) {
+                const T s = (q[k] - (lo[k] + hi[k]) / T(2)) / ((hi[k] - lo[k]) / T(2));
+                u[k] = std::asin(std::clamp(s, T(-1), T(1)));
+            }
+        return u;
+    }
+    /// dq_k / du_k (1 for DOFs that are not reparametrised).
+    T derivative(const ik_vector<T>& u, int k) const {
+        return is_boxed(k) ? (hi[k] - lo[k]) / T(2) * std::cos(u[k]) : T(1);
+    }
+};
+
+/// 0.5 |r|^2 below which every weighted goal residual is surely within its
+/// tolerance: the optimisers stop there instead of polishing further.
+template <class T>
+T goal_stop_value(const std::vector<ik_goal<T>>& goals, const ik_params<T>& p) {
+    T enough = std::numeric_limits<T>::infinity();
+    for (const auto& g : goals) {
+        if (g.has_position()) enough = std::min(enough, g.weight * p.tolerance);
+        if (g.has_orientation()) enough = std::min(enough, g.weight * g.orientation_scale * p.angle_tolerance);
+    }
+    return T(0.5) * enough * enough;
+}
+
+/// Runs `attempt(u0) -> optimize_result<T>` from q0, then from random poses
+/// while the goals are not met, and keeps the best pose.
+template <class T, class Attempt>
+ik_result<T> solve_with_restarts(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
+                                 const ik_vector<T>& q0, const ik_params<T>& params, const sine_limits<T>& limits,
+                                 Attempt&& attempt) {
+    random_source rng(params.seed);
+    ik_result<T> best;
+    best.q = params.limits ? tree.clamp(q0) : q0;
+    evaluate_ik(tree, goals, best);
+    T best_score = summarise(best.errors, params).score;
+    bool stalled = false;
+    for (int a = 0; a <= params.restarts && best_score > T(1); ++a) {
+        ++best.attempts;
+        const ik_vector<T> start = a == 0 ? best.q : random_pose(tree, q0, rng);
+        const optimize_result<T> res = attempt(limits.to_u(start));
+        best.iterations += res.iterations;
+        ik_result<T> trial;
+        trial.q = limits.to_q(res.x);
+        if (params.limits) trial.q = tree.clamp(trial.q);
+        tree.wrap(trial.q);
+        evaluate_ik(tree, goals, trial);
+        const T score = summarise(trial.errors, params).score;
+        stalled = res.status != optimize_status::max_iterations && res.status != optimize_status::stopped;
+        if (score < best_score) {
+            best_score = score;
+            best.q = trial.q;
+            best.errors = trial.errors;
+        }
+    }
+    evaluate_ik(tree, goals, best);
+    best.status = best_score <= T(1) ? ik_status::converged
+                  : stalled         ? ik_status::unreachable_closest
+                                    : ik_status::max_iterations;
+    return best;
+}
+
+}  // namespace anima::detail
