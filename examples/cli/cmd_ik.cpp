@@ -281,7 +281,7 @@ void run_ik(const ik_options& o) {
 void register_ik(CLI::App& app) {
     using namespace anima_cli;
     auto o = std::make_shared<ik_options>();
-    auto* sub = app.add_subcommand("ik", "Inverse kinematics: move joints to targets in one frame or over a range");
+    auto* sub = app.add_subcommand("ik", "Inverse kinematics: move joints to targets in one frame, by an offset over a range, or per frame from a CSV file");
     sub->add_option("input", o->input, "Input BVH file")->required()->check(CLI::ExistingFile);
     sub->add_option("--frame", o->frame, "Frame to solve (target mode)");
     sub->add_option("--effector", o->effectors, "Joint to move (repeat, one per --target)");
