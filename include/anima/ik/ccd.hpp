@@ -50,21 +50,13 @@ ik_result<T> solve_ik_ccd(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>
     for (int attempt = 0; attempt <= params.restarts; ++attempt) {
         ik_vector<T> q = attempt == 0 ? best.q : detail::random_pose(tree, q0, rng);
         ++best.attempts;
-        T last_score = std::numeric_limits<T>::infinity();
-        int slow = 0;
+        detail::attempt_progress<T> progress;
         for (int it = 0;; ++it) {
             tree.forward_unchecked(q, s);
             goal_residual(s, goals, r, &errors);
-            const auto sum = detail::summarise(errors, params);
-            if (sum.score < best_score) {
-                best_score = sum.score;
-                best.q = q;
-            }
-            if (sum.score <= T(1) || it == params.max_iterations) break;
-            slow = sum.score > last_score * T(0.999) ? slow + 1 : 0;
-            last_score = std::min(last_score, sum.score);
-            if (slow >= 8) {
-                stationary = true;
+            if (progress.finished(detail::summarise(errors, params).score, it, params.max_iterations, q, best_score,
+                                  best.q)) {
+                stationary = stationary || progress.stalled;
                 break;
             }
             ++best.iterations;

@@ -120,6 +120,30 @@ error_summary<T> summarise(const std::vector<goal_error<T>>& errors, const ik_pa
     return s;
 }
 
+/// One attempt's bookkeeping, shared by the iterative solvers: keeps the
+/// best pose seen and ends the attempt on success, at the iteration cap, or
+/// after 8 iterations without 0.1% progress (a local minimum, or an
+/// unreachable target's closest pose: a restart has better odds).
+template <class T>
+struct attempt_progress {
+    T last = std::numeric_limits<T>::infinity();
+    int slow = 0;
+    bool stalled = false;
+
+    bool finished(T score, int iteration, int max_iterations, const ik_vector<T>& q, T& best_score,
+                  ik_vector<T>& best_q) {
+        if (score < best_score) {
+            best_score = score;
+            best_q = q;
+        }
+        if (score <= T(1) || iteration == max_iterations) return true;
+        slow = score > last * T(0.999) ? slow + 1 : 0;
+        last = std::min(last, score);
+        stalled = slow >= 8;
+        return stalled;
+    }
+};
+
 /// A random pose: limited DOFs uniform within their limits, ball DOFs
 /// without limits within +-1 rad of `around`, translations at `around`.
 template <class T>
@@ -210,23 +234,13 @@ ik_result<T> solve_ik(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goa
         ik_vector<T> q = attempt == 0 ? best.q : detail::random_pose(tree, q0, rng);
         if (params.limits) q = tree.clamp(q);
         ++best.attempts;
-        T last_score = std::numeric_limits<T>::infinity();
-        int slow = 0;
+        detail::attempt_progress<T> progress;
         for (int it = 0;; ++it) {
             tree.forward_unchecked(q, s);
             goal_residual(s, goals, r, &errors);
-            const auto sum = detail::summarise(errors, params);
-            if (sum.score < best_score) {
-                best_score = sum.score;
-                best.q = q;
-            }
-            if (sum.score <= T(1) || it == params.max_iterations) break;
-            // No progress for a while: a local minimum (or an unreachable
-            // target's closest pose); a restart has better odds.
-            slow = sum.score > last_score * T(0.999) ? slow + 1 : 0;
-            last_score = std::min(last_score, sum.score);
-            if (slow >= 8) {
-                stationary = true;
+            if (progress.finished(detail::summarise(errors, params).score, it, params.max_iterations, q, best_score,
+                                  best.q)) {
+                stationary = stationary || progress.stalled;
                 break;
             }
             ++best.iterations;
