@@ -26,11 +26,7 @@ public:
     using params = typename regressor_options<T>::linear_params;
 
     /// Throws anima::invalid_argument for a negative or non-finite ridge.
-    explicit linear_regressor(const params& p = {}) : params_(p) {
-        if (!(p.ridge >= T(0)) || !std::isfinite(static_cast<double>(p.ridge)))
-            throw invalid_argument("anima::linear_regressor: ridge " + std::to_string(p.ridge) +
-                                   " must be finite and >= 0");
-    }
+    explicit linear_regressor(const params& p = {}) : params_(p) { detail::check_ridge("anima::linear_regressor", p.ridge); }
 
     regressor_kind kind() const override { return regressor_kind::linear; }
 

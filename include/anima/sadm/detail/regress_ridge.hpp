@@ -19,6 +19,13 @@
 
 namespace anima::detail {
 
+/// Throws anima::invalid_argument unless the ridge is finite and >= 0.
+template <class T>
+void check_ridge(const char* who, T ridge) {
+    if (!(ridge >= T(0)) || !std::isfinite(static_cast<double>(ridge)))
+        throw invalid_argument(std::string(who) + ": ridge " + std::to_string(ridge) + " must be finite and >= 0");
+}
+
 template <class T>
 struct ridge_solution {
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> weights;  ///< p x m
