@@ -248,7 +248,8 @@ TEST_CASE_TEMPLATE("linear: collinear and constant inputs", T, float, double) {
 // ---------------------------------------------------------------------------
 
 TEST_CASE_TEMPLATE("poly2: the monomials in their documented order", T, float, double) {
-    const matrix<T> x = (matrix<T>(2, 3) << 1, 2, 3, -1, 0.5, 4).finished();
+    matrix<T> x(2, 3);
+    x << 1, 2, 3, -1, 0.5, 4;
     const matrix<T> f = anima::poly2_features<T>(x);
     REQUIRE(f.cols() == anima::poly2_feature_count(3));
     REQUIRE(f.cols() == 9);
