@@ -323,3 +323,44 @@ TEST_CASE_TEMPLATE("angular_velocities over a sequence", Q, ANIMA_QUAT_TYPES) {
         CHECK_THROWS_AS(anima::angular_velocities(std::vector<Q>{}, bad_dt), anima::invalid_argument);
     }
 }
+
+TEST_CASE_TEMPLATE("norm, normalize, inverse, log and pow work for 1e-200, 1e200 and denormal quaternions", Q,
+                   ANIMA_QUAT_TYPES) {
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    rng r(14);
+    for (int i = 0; i < 50; ++i) {
+        const Q u = r.unit<Q>();
+        const T t = T(r.uniform(-2, 2));
+        for (const T s : awkward_scales<T>()) {
+            CAPTURE(s);
+            const Q q = scaled(u, s);
+            const lq stored = to_lq(q), ref = unit(stored);
+            const ld length = std::sqrt(stored.w * stored.w + stored.x * stored.x + stored.y * stored.y +
+                                        stored.z * stored.z);
+            CHECK(std::abs(anima::norm(q) - length) <= 2 * e * length);
+            const Q n = anima::normalize(q);
+            REQUIRE(finite(n));
+            CHECK(diff(n, ref) <= 2 * e);
+            const Q l = anima::log(q);
+            REQUIRE(finite(l));
+            const lq lr = to_lq(anima::log(from_lq<Q>(ref)));
+            CHECK(std::abs(ld(to_lq(l).w) - std::log(length)) <= 4 * e * std::max(ld(1), std::abs(std::log(length))));
+            CHECK(vdiff(vec{to_lq(l).x, to_lq(l).y, to_lq(l).z}, vec{lr.x, lr.y, lr.z}) <= 8 * e);
+            const Q p = anima::pow(q, t);
+            REQUIRE(finite(p));
+            CHECK(diff(p, anima::pow(from_lq<Q>(ref), t)) <= 8 * e);
+            CHECK(vdiff(anima::to_rotation_vector(q), anima::to_rotation_vector(from_lq<Q>(ref))) <= 8 * e);
+            if (s >= std::ldexp(T(1), -(std::numeric_limits<T>::max_exponent * 2) / 3) &&
+                s <= std::ldexp(T(1), (std::numeric_limits<T>::max_exponent * 2) / 3)) {
+                const Q v = anima::inverse(q);  // conj(q) / |q|^2: |q|^2 itself would over- or underflow
+                REQUIRE(finite(v));
+                CHECK(diff(anima::multiply(q, v), anima::identity<Q>()) <= 8 * e);
+            }
+        }
+    }
+    // The inverse of a denormal quaternion overflows: refused, not infinite.
+    const T tiny = std::numeric_limits<T>::denorm_min() * T(4);
+    CHECK_THROWS_AS(anima::inverse(make<Q>(tiny, 0, 0, 0)), anima::invalid_argument);
+    CHECK(diff(anima::normalize(make<Q>(tiny, 0, 0, 0)), make<Q>(1, 0, 0, 0)) == 0);
+}

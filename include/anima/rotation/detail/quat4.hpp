@@ -7,6 +7,7 @@
 #include <anima/rotation/quat_traits.hpp>
 
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -84,14 +85,53 @@ T sinc(T x) {
     return std::sin(x) / x;
 }
 
-/// Normalises, refusing a zero or non-finite norm: the caller names itself.
+/// Largest component magnitude; NaN when a component is NaN.
 template <class T>
-quat4<T> normalized_or_throw(const quat4<T>& q, const char* who) {
-    const T n = norm4(q);
-    if (!(n > T(0)) || !std::isfinite(n))
-        throw invalid_argument(std::string(who) + ": quaternion has zero or non-finite norm (" +
-                               std::to_string(static_cast<double>(n)) + ")");
-    return q * (T(1) / n);
+T max_abs4(const quat4<T>& q) {
+    T m = std::abs(q.w);
+    for (const T c : {q.x, q.y, q.z}) {
+        const T a = std::abs(c);
+        if (a > m || std::isnan(a)) m = a;  // a NaN, once taken, stays
+    }
+    return m;
+}
+
+/// |q| without overflow or underflow: for components far from 1 (1e-200,
+/// 1e200, denormals) the squares are formed after dividing by the largest
+/// component. Infinite for an infinite component, NaN for a NaN one.
+template <class T>
+T scaled_norm4(const quat4<T>& q) {
+    constexpr T lo = std::numeric_limits<T>::min() / std::numeric_limits<T>::epsilon();
+    constexpr T hi = std::numeric_limits<T>::max() / T(8);
+    const T n2 = dot4(q, q);
+    if (n2 >= lo && n2 <= hi) return std::sqrt(n2);
+    const T m = max_abs4(q);
+    if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return m;  // 0, inf or NaN
+    const quat4<T> s{q.w / m, q.x / m, q.y / m, q.z / m};
+    return m * norm4(s);
+}
+
+/// Unit quaternion q / |q| and ln|q|, computed without overflow or underflow
+/// for any finite non-zero q; throws anima::invalid_argument naming the
+/// caller for a zero or non-finite quaternion.
+template <class T>
+quat4<T> normalized_or_throw(const quat4<T>& q, const char* who, T* log_norm = nullptr) {
+    constexpr T lo = std::numeric_limits<T>::min() / std::numeric_limits<T>::epsilon();
+    constexpr T hi = std::numeric_limits<T>::max() / T(8);
+    const T n2 = dot4(q, q);
+    if (n2 >= lo && n2 <= hi) {  // the common case: the squares neither overflow nor underflow
+        const T n = std::sqrt(n2);
+        if (log_norm) *log_norm = std::log(n);
+        return q * (T(1) / n);
+    }
+    const T m = max_abs4(q);
+    if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max()))
+        throw invalid_argument(std::string(who) + ": quaternion has zero or non-finite norm (largest component " +
+                               std::to_string(static_cast<double>(m)) + ")");
+    const quat4<T> s{q.w / m, q.x / m, q.y / m, q.z / m};  // largest component exactly +-1
+    const T n = norm4(s);
+    if (log_norm) *log_norm = std::log(m) + std::log(n);
+    return s * (T(1) / n);
 }
 
 /// exp of a pure quaternion (0, v): (cos|v|, sin|v| v/|v|).
