@@ -73,12 +73,13 @@ void slerp_weights(T d, T t, T& k0, T& k1) {
     const T c = std::sqrt(T(0.5) + T(0.5) * c1);   // cos(theta / 4)
     const T y = c - T(1);
     const T tau1 = T(4) * t, tau0 = T(4) - tau1;   // 4 - 4t is exact for t >= 1/2
-    const T sq0 = tau0 * tau0, sq1 = tau1 * tau1;
-    T acc0 = T(1), acc1 = T(1);
-    for (int i = n; i >= 1; --i) {
-        acc0 = T(1) + (sq0 * s.u[i] - s.v[i]) * y * acc0;
-        acc1 = T(1) + (sq1 * s.u[i] - s.v[i]) * y * acc1;
-    }
+    // The two series side by side, written lane-wise so that the compiler can
+    // keep them in one vector register.
+    const T sq[2] = {tau0 * tau0, tau1 * tau1};
+    T acc[2] = {T(1), T(1)};
+    for (int i = n; i >= 1; --i)
+        for (int l = 0; l < 2; ++l) acc[l] = T(1) + (sq[l] * s.u[i] - s.v[i]) * y * acc[l];
+    const T acc0 = acc[0], acc1 = acc[1];
     const T inv = T(1) / (T(4) * c * (T(2) * c * c - T(1)));  // sin(phi) / sin(theta)
     k0 = tau0 * acc0 * inv;
     k1 = tau1 * acc1 * inv;
