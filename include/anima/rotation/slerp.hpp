@@ -74,11 +74,18 @@ void slerp_weights(T d, T t, T& k0, T& k1) {
     const T y = c - T(1);
     const T tau1 = T(4) * t, tau0 = T(4) - tau1;   // 4 - 4t is exact for t >= 1/2
     // The two series side by side, written lane-wise so that the compiler can
-    // keep them in one vector register.
+    // keep them in one vector register. Horner's rule over pairs of terms,
+    // 1 + w1 + w1 w2 (1 + w3 + w3 w4 (...)), halves the dependency chain.
     const T sq[2] = {tau0 * tau0, tau1 * tau1};
     T acc[2] = {T(1), T(1)};
-    for (int i = n; i >= 1; --i)
-        for (int l = 0; l < 2; ++l) acc[l] = T(1) + (sq[l] * s.u[i] - s.v[i]) * y * acc[l];
+    for (int l = 0; l < 2; ++l) {
+        T w[n + 2];
+        for (int i = 1; i <= n; ++i) w[i] = (sq[l] * s.u[i] - s.v[i]) * y;
+        w[n + 1] = T(0);
+        T a = T(1);
+        for (int i = (n % 2 == 0 ? n - 1 : n); i >= 1; i -= 2) a = T(1) + w[i] + (w[i] * w[i + 1]) * a;
+        acc[l] = a;
+    }
     const T acc0 = acc[0], acc1 = acc[1];
     const T inv = T(1) / (T(4) * c * (T(2) * c * c - T(1)));  // sin(phi) / sin(theta)
     k0 = tau0 * acc0 * inv;
