@@ -2,18 +2,11 @@
 //
 // How it is computed. For unit inputs at 4-vector angle theta (cos theta =
 // a.b >= 0 after the shortest-arc flip) the result is k0 a + k1 b with
-// k1 = sin(t theta) / sin(theta) and k0 the same with 1 - t. With
-// phi = theta / 4 and c = cos(phi), obtained from a.b by two half-angle
-// square roots, sin(theta) / sin(phi) is the polynomial 4c(2c^2 - 1) and
-// sin(4t phi) / sin(phi) is a power series in y = c - 1 whose coefficients
-// follow from the Chebyshev differential equation (the idea of Eberly's
-// "A Fast and Accurate Algorithm for Computing SLERP", with two halvings of
-// the angle instead of one so that few terms suffice): with u_i = 1/(i(2i+1)),
-//   sin(tau phi) / sin(phi) = tau (1 + y (tau^2 u_1 - 1/3)(1 + y (tau^2 u_2 - 2/5)(1 + ...))).
-// |y| <= 1 - cos(pi/8) makes each term about 26 times smaller than the one
-// before: 5 terms reach float precision, 10 double precision. No sine, no
-// arc cosine, one division; near theta = 0 the series is exact, so t is
-// honoured at every angle and identical inputs need no special case.
+// k1 = sin(t theta) / sin(theta) and k0 the same with 1 - t. Both weights
+// come from the power series of detail/angle_series.hpp in cos(theta/4) - 1
+// (two half-angle square roots, one division, no sine or arc cosine); near
+// theta = 0 the series is exact, so t is honoured at every angle and
+// identical inputs need no special case.
 //
 // The fast path takes inputs within sqrt(epsilon)/4 of unit length (one
 // Newton step brings them to unit length inside the weights) and t in
@@ -24,6 +17,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/rotation/detail/angle_series.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
@@ -41,55 +35,17 @@ enum class arc {
     as_given   ///< the great arc from a to b as they are (squad's inner blends)
 };
 
-/// Number of series terms for sin(tau phi) / sin(phi), tau <= 4, phi <= pi/8,
-/// that leaves the truncation error below the scalar's rounding error.
-template <class T>
-constexpr int slerp_series_terms() {
-    constexpr int digits = std::numeric_limits<T>::digits;
-    return digits <= 24 ? 5 : digits <= 53 ? 10 : 14;
-}
-
-/// u_i = 1/(i(2i+1)) and v_i = i/(2i+1) of the series, i = 1..N (index 0 unused).
-template <class T, int N>
-struct slerp_series {
-    T u[N + 1]{};
-    T v[N + 1]{};
-    constexpr slerp_series() {
-        for (int i = 1; i <= N; ++i) {
-            u[i] = T(1) / T(i * (2 * i + 1));
-            v[i] = T(i) / T(2 * i + 1);
-        }
-    }
-};
-
 /// Slerp weights (k0 for a, k1 for b) of unit quaternions with a.b = d in
 /// [0, 1] (a hair above 1 is fine) and t in [0, 1]. Polynomial except for two
 /// square roots and one division.
 template <class T>
 void slerp_weights(T d, T t, T& k0, T& k1) {
-    constexpr int n = slerp_series_terms<T>();
-    static constexpr slerp_series<T, n> s{};
-    const T c1 = std::sqrt(T(0.5) + T(0.5) * d);   // cos(theta / 2)
-    const T c = std::sqrt(T(0.5) + T(0.5) * c1);   // cos(theta / 4)
+    const T c = cos_quarter_angle(d);
     const T y = c - T(1);
-    const T tau1 = T(4) * t, tau0 = T(4) - tau1;   // 4 - 4t is exact for t >= 1/2
-    // The two series side by side, written lane-wise so that the compiler can
-    // keep them in one vector register. Horner's rule over pairs of terms,
-    // 1 + w1 + w1 w2 (1 + w3 + w3 w4 (...)), halves the dependency chain.
-    const T sq[2] = {tau0 * tau0, tau1 * tau1};
-    T acc[2] = {T(1), T(1)};
-    for (int l = 0; l < 2; ++l) {
-        T w[n + 2];
-        for (int i = 1; i <= n; ++i) w[i] = (sq[l] * s.u[i] - s.v[i]) * y;
-        w[n + 1] = T(0);
-        T a = T(1);
-        for (int i = (n % 2 == 0 ? n - 1 : n); i >= 1; i -= 2) a = T(1) + w[i] + (w[i] * w[i + 1]) * a;
-        acc[l] = a;
-    }
-    const T acc0 = acc[0], acc1 = acc[1];
-    const T inv = T(1) / (T(4) * c * (T(2) * c * c - T(1)));  // sin(phi) / sin(theta)
-    k0 = tau0 * acc0 * inv;
-    k1 = tau1 * acc1 * inv;
+    const T tau1 = T(4) * t, tau0 = T(4) - tau1;  // 4 - 4t is exact for t >= 1/2
+    const T inv = T(1) / sin_over_sin_quarter(c);  // sin(theta / 4) / sin(theta)
+    k0 = tau0 * angle_series(tau0 * tau0, y) * inv;
+    k1 = tau1 * angle_series(tau1 * tau1, y) * inv;
 }
 
 /// sin(k theta) / sin(theta), exact as theta -> 0 (where it tends to k).
@@ -131,7 +87,7 @@ quat4<T> slerp_general(const quat4<T>& a_in, const quat4<T>& b_in, T t, arc mode
 template <class T>
 quat4<T> slerp4(const quat4<T>& a, const quat4<T>& b, T t, arc mode = arc::shortest,
                 const char* who = "anima::slerp") {
-    constexpr T tolerance = constexpr_sqrt(std::numeric_limits<T>::epsilon()) / T(4);
+    constexpr T tolerance = near_unit_tolerance<T>();
     const T na = dot4(a, a), nb = dot4(b, b), d = dot4(a, b);
     const bool fast = std::abs(na - T(1)) <= tolerance && std::abs(nb - T(1)) <= tolerance && t >= T(0) &&
                       t <= T(1) && (mode == arc::shortest || d >= T(0));

@@ -2,6 +2,7 @@
 // of orientations, built from slerps and one control point per key.
 #pragma once
 
+#include <anima/rotation/detail/angle_series.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
 #include <anima/rotation/slerp.hpp>
@@ -21,20 +22,23 @@ template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q squad_control_point(const Q& prev, const Q& q, const Q& next) {
     using T = quat_scalar_t<Q>;
     const auto c_in = detail::load(q), p_in = detail::load(prev), n_in = detail::load(next);
-    const auto c = detail::normalized_or_throw(c_in, "anima::squad_control_point");
-    auto p = detail::normalized_or_throw(p_in, "anima::squad_control_point");
-    auto n = detail::normalized_or_throw(n_in, "anima::squad_control_point");
+    const auto c = detail::unit_or_throw(c_in, "anima::squad_control_point");
+    auto p = detail::unit_or_throw(p_in, "anima::squad_control_point");
+    auto n = detail::unit_or_throw(n_in, "anima::squad_control_point");
     // The hemisphere test on the inputs as given, exactly as squad() makes it
     // for a segment: a key pair 180 degrees apart (a.b = 0 up to rounding)
     // then gets the same choice of arc in both places.
     if (detail::dot4(c_in, p_in) < T(0)) p = -p;
     if (detail::dot4(c_in, n_in) < T(0)) n = -n;
+    // Both relative rotations have w = c.n, c.p >= 0 and the sum of their logs
+    // is at most pi in length: the polynomial log and exp of angle_series.hpp
+    // cover them without an arc tangent, sine or cosine.
     const auto ci = detail::conj4(c);
     T ax, ay, az, bx, by, bz;
-    detail::log_unit(ci * n, ax, ay, az);
-    detail::log_unit(ci * p, bx, by, bz);
+    detail::log_unit_right_half(ci * n, ax, ay, az);
+    detail::log_unit_right_half(ci * p, bx, by, bz);
     const T k = T(-0.25);
-    return detail::store<Q>(c * detail::exp_pure(k * (ax + bx), k * (ay + by), k * (az + bz)));
+    return detail::store<Q>(c * detail::exp_pure_quarter_turn(k * (ax + bx), k * (ay + by), k * (az + bz)));
 }
 
 namespace detail {
