@@ -83,10 +83,13 @@ quat4<T> slerp_general(const quat4<T>& a_in, const quat4<T>& b_in, T t, arc mode
     return r * (T(1) / norm4(r));
 }
 
-/// Slerp of 4-vectors along the chosen arc; the result has unit length.
+/// Slerp of 4-vectors along the chosen arc. The result has unit length;
+/// with `unit_result` false the fast path leaves it within a few epsilon of
+/// it (enough for a caller that feeds it straight into another slerp, whose
+/// Newton step on the inputs absorbs that).
 template <class T>
 quat4<T> slerp4(const quat4<T>& a, const quat4<T>& b, T t, arc mode = arc::shortest,
-                const char* who = "anima::slerp") {
+                const char* who = "anima::slerp", bool unit_result = true) {
     constexpr T tolerance = near_unit_tolerance<T>();
     const T na = dot4(a, a), nb = dot4(b, b), d = dot4(a, b);
     const bool fast = std::abs(na - T(1)) <= tolerance && std::abs(nb - T(1)) <= tolerance && t >= T(0) &&
@@ -100,6 +103,7 @@ quat4<T> slerp4(const quat4<T>& a, const quat4<T>& b, T t, arc mode = arc::short
     T k0, k1;
     slerp_weights(std::abs(d) * ga * gb, t, k0, k1);
     const quat4<T> r = a * (k0 * ga) + b * (k1 * gb * sign);
+    if (!unit_result) return r;
     return r * (T(1.5) - T(0.5) * dot4(r, r));  // and once more on the result
 }
 

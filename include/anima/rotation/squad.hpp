@@ -56,8 +56,8 @@ quat4<T> squad4(const quat4<T>& q1, quat4<T> q2, const quat4<T>& s1, quat4<T> s2
         s2 = -s2;
     }
     const char* who = "anima::squad";
-    const quat4<T> a = slerp4(q1, q2, t, arc::as_given, who);
-    const quat4<T> b = slerp4(s1, s2, t, arc::as_given, who);
+    const quat4<T> a = slerp4(q1, q2, t, arc::as_given, who, false);
+    const quat4<T> b = slerp4(s1, s2, t, arc::as_given, who, false);
     return slerp4(a, b, T(2) * t * (T(1) - t), arc::as_given, who);
 }
 
