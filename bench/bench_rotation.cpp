@@ -232,6 +232,11 @@ inputs<T> make_inputs() {
                                               glm::squad(in.keys[k], in.keys[k + 1], in.glm_cp[k], in.glm_cp[k + 1], t)));
     }
     report_accuracy(in);
+    std::fprintf(stderr,
+                 "%s: largest component difference to the peer: slerp %.3g (glm) %.3g (eigen), "
+                 "squad_control_point %.3g, squad %.3g\n",
+                 type_name<T>(), static_cast<double>(slerp_glm), static_cast<double>(slerp_eigen),
+                 static_cast<double>(cp), static_cast<double>(squad));
     check("slerp (glm::slerp)", slerp_glm);
     check("slerp (Eigen slerp)", slerp_eigen);
     check("squad_control_point (glm::intermediate)", cp);

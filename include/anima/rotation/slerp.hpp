@@ -48,6 +48,12 @@ void slerp_weights(T d, T t, T& k0, T& k1) {
     k1 = tau1 * angle_series(tau1 * tau1, y) * inv;
 }
 
+/// Where 1 - cos(theta) is small enough for the two-term series of the weights.
+template <class T>
+constexpr T near_identity() {
+    return constexpr_sqrt(std::numeric_limits<T>::epsilon());
+}
+
 /// sin(k theta) / sin(theta), exact as theta -> 0 (where it tends to k).
 template <class T>
 T sin_ratio(T k, T theta) {
@@ -100,8 +106,19 @@ quat4<T> slerp4(const quat4<T>& a, const quat4<T>& b, T t, arc mode = arc::short
     const T ga = T(1.5) - T(0.5) * na, gb = T(1.5) - T(0.5) * nb;
     // Shorter arc: -b when a.b < 0, without a branch.
     const T sign = mode == arc::shortest ? std::copysign(T(1), d) : T(1);
+    const T cos_theta = std::abs(d) * ga * gb;
     T k0, k1;
-    slerp_weights(std::abs(d) * ga * gb, t, k0, k1);
+    const T y = cos_theta - T(1);
+    if (-y <= near_identity<T>()) {
+        // theta below about eps^(1/4): two terms of the series in cos(theta) - 1
+        // itself are exact (the third is under 2 y^2 / 15 <= eps / 8), with no
+        // square root or division. Nearly identical and nearly antipodal inputs.
+        const T s = T(1) - t;
+        k0 = s * (T(1) + (s * s - T(1)) * y / T(3));
+        k1 = t * (T(1) + (t * t - T(1)) * y / T(3));
+    } else {
+        slerp_weights(cos_theta, t, k0, k1);
+    }
     const quat4<T> r = a * (k0 * ga) + b * (k1 * gb * sign);
     if (!unit_result) return r;
     return r * (T(1.5) - T(0.5) * dot4(r, r));  // and once more on the result
