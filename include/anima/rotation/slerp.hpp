@@ -4,9 +4,10 @@
 // a.b >= 0 after the shortest-arc flip) the result is k0 a + k1 b with
 // k1 = sin(t theta) / sin(theta) and k0 the same with 1 - t. Both weights
 // come from the power series of detail/angle_series.hpp in cos(theta/4) - 1
-// (two half-angle square roots, one division, no sine or arc cosine); near
-// theta = 0 the series is exact, so t is honoured at every angle and
-// identical inputs need no special case.
+// (two half-angle square roots, one division, no sine or arc cosine), or,
+// when 1 - cos(theta) is below sqrt(epsilon), from two terms of the series in
+// cos(theta) - 1 itself. Near theta = 0 the series are exact, so t is honoured
+// at every angle and identical inputs need no special case.
 //
 // The fast path takes inputs within sqrt(epsilon)/4 of unit length (one
 // Newton step brings them to unit length inside the weights) and t in
