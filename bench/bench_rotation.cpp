@@ -11,11 +11,14 @@
 //   BM_squad_control_point<glm_native, T>   glm::intermediate
 //
 // Each iteration processes a batch of 4096 items (items/s is per quaternion
-// produced). slerp pairs are uniformly distributed unit quaternions, squad
-// keys a sequence of rotations up to 90 degrees apart, t uniform in [0, 1],
-// all from a fixed seed. Before anything is timed, every anima result
-// is checked against the peer's on the whole batch (up to the sign of the
-// quaternion); the program aborts if they disagree.
+// produced). slerp pairs are mixed, in turn: uniformly random, 1e-6 rad
+// apart, nearly antipodal 4-vectors (the same rotation up to 1e-6 rad) and
+// rotations 150 to 180 degrees apart. squad keys are a sequence of rotations
+// up to 90 degrees apart, t uniform in [0, 1], all from a fixed seed. Before
+// anything is timed, every anima result is checked against the peer's on the
+// whole batch (up to the sign of the quaternion); the program aborts if they
+// disagree. It then prints the worst angle error of each library's slerp
+// against a long double slerp of the same inputs.
 
 // glm::squad and glm::intermediate live in GLM's experimental extensions.
 #define GLM_ENABLE_EXPERIMENTAL
@@ -113,6 +116,52 @@ void check(const char* what, T worst) {
         fail(std::string(what) + "<" + type_name<T>() + ">: anima and the peer differ by " + std::to_string(worst));
 }
 
+/// Angle (radians) between the orientations a and b, in long double.
+template <class T>
+long double angle_error(const gquat<T>& a, const long double (&b)[4]) {
+    const long double aw = a.w, ax = a.x, ay = a.y, az = a.z;
+    const long double w = aw * b[0] + ax * b[1] + ay * b[2] + az * b[3];  // conj(a) * b
+    const long double x = aw * b[1] - ax * b[0] - ay * b[3] + az * b[2];
+    const long double y = aw * b[2] + ax * b[3] - ay * b[0] - az * b[1];
+    const long double z = aw * b[3] - ax * b[2] + ay * b[1] - az * b[0];
+    return 2 * std::atan2(std::sqrt(x * x + y * y + z * z), std::abs(w));
+}
+
+/// Prints the worst angle error of anima's, GLM's and Eigen's slerp against a
+/// long double slerp of the same (rounded) inputs.
+template <class T>
+void report_accuracy(const inputs<T>& in) {
+    long double worst_anima = 0, worst_glm = 0, worst_eigen = 0;
+    for (std::size_t i = 0; i < batch_size; ++i) {
+        const gquat<T>& a = in.ga[i];
+        const gquat<T>& b = in.gb[i];
+        const long double t = in.t[i];
+        long double pa[4] = {a.w, a.x, a.y, a.z}, pb[4] = {b.w, b.x, b.y, b.z};
+        long double d = 0;
+        for (int k = 0; k < 4; ++k) d += pa[k] * pb[k];
+        if (d < 0)
+            for (long double& c : pb) c = -c;
+        // a (a^-1 b)^t with the relative rotation's half angle from atan2.
+        const long double rel[4] = {std::abs(d), pa[0] * pb[1] - pa[1] * pb[0] - pa[2] * pb[3] + pa[3] * pb[2],
+                                    pa[0] * pb[2] + pa[1] * pb[3] - pa[2] * pb[0] - pa[3] * pb[1],
+                                    pa[0] * pb[3] - pa[1] * pb[2] + pa[2] * pb[1] - pa[3] * pb[0]};
+        const long double s = std::sqrt(rel[1] * rel[1] + rel[2] * rel[2] + rel[3] * rel[3]);
+        const long double half = std::atan2(s, rel[0]);
+        const long double k = s > 0 ? std::sin(t * half) / s : 0, c = std::cos(t * half);
+        const long double p[4] = {c, k * rel[1], k * rel[2], k * rel[3]};
+        const long double ref[4] = {pa[0] * p[0] - pa[1] * p[1] - pa[2] * p[2] - pa[3] * p[3],
+                                    pa[0] * p[1] + pa[1] * p[0] + pa[2] * p[3] - pa[3] * p[2],
+                                    pa[0] * p[2] - pa[1] * p[3] + pa[2] * p[0] + pa[3] * p[1],
+                                    pa[0] * p[3] + pa[1] * p[2] - pa[2] * p[1] + pa[3] * p[0]};
+        const T tt = in.t[i];
+        worst_anima = std::max(worst_anima, angle_error(anima::slerp(a, b, tt), ref));
+        worst_glm = std::max(worst_glm, angle_error(glm::slerp(a, b, tt), ref));
+        worst_eigen = std::max(worst_eigen, angle_error(to_glm(equat<T>(in.ea[i].slerp(tt, in.eb[i]))), ref));
+    }
+    std::fprintf(stderr, "slerp<%s> worst angle error (rad) against long double: anima %.3Lg, glm %.3Lg, eigen %.3Lg\n",
+                 type_name<T>(), worst_anima, worst_glm, worst_eigen);
+}
+
 template <class T>
 inputs<T> make_inputs() {
     std::mt19937_64 rng(20240601);
@@ -124,9 +173,25 @@ inputs<T> make_inputs() {
         return make_glm(static_cast<T>(w) / n, static_cast<T>(x) / n, static_cast<T>(y) / n, static_cast<T>(z) / n);
     };
 
+    const auto turned = [&](const gquat<T>& q, double angle) {  // q times a rotation by angle about a random axis
+        double ax = normal(rng), ay = normal(rng), az = normal(rng);
+        const double n = std::sqrt(ax * ax + ay * ay + az * az), s = std::sin(angle / 2) / n;
+        const long double w = std::cos(angle / 2), x = s * ax, y = s * ay, z = s * az;
+        const long double qw = q.w, qx = q.x, qy = q.y, qz = q.z;
+        return make_glm(static_cast<T>(qw * w - qx * x - qy * y - qz * z), static_cast<T>(qw * x + qx * w + qy * z - qz * y),
+                        static_cast<T>(qw * y - qx * z + qy * w + qz * x), static_cast<T>(qw * z + qx * y - qy * x + qz * w));
+    };
+
     inputs<T> in;
     for (std::size_t i = 0; i < batch_size; ++i) {
-        const gquat<T> a = random_unit(), b = random_unit();
+        const gquat<T> a = random_unit();
+        gquat<T> b;
+        switch (i % 4) {
+        case 0: b = random_unit(); break;
+        case 1: b = turned(a, 1e-6); break;
+        case 2: b = -turned(a, 1e-6); break;
+        default: b = turned(a, (150.0 + 30.0 * uniform(rng)) * 3.14159265358979323846 / 180.0); break;
+        }
         in.ga.push_back(a);
         in.gb.push_back(b);
         in.ea.emplace_back(a.w, a.x, a.y, a.z);
@@ -166,6 +231,12 @@ inputs<T> make_inputs() {
         squad = std::max(squad, quat_distance(anima::squad(in.keys[k], in.keys[k + 1], in.anima_cp[k], in.anima_cp[k + 1], t),
                                               glm::squad(in.keys[k], in.keys[k + 1], in.glm_cp[k], in.glm_cp[k + 1], t)));
     }
+    report_accuracy(in);
+    std::fprintf(stderr,
+                 "%s: largest component difference to the peer: slerp %.3g (glm) %.3g (eigen), "
+                 "squad_control_point %.3g, squad %.3g\n",
+                 type_name<T>(), static_cast<double>(slerp_glm), static_cast<double>(slerp_eigen),
+                 static_cast<double>(cp), static_cast<double>(squad));
     check("slerp (glm::slerp)", slerp_glm);
     check("slerp (Eigen slerp)", slerp_eigen);
     check("squad_control_point (glm::intermediate)", cp);

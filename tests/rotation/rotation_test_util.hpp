@@ -135,6 +135,22 @@ ld norm_error(const Q& q) {
     return std::abs(std::sqrt(p.w * p.w + p.x * p.x + p.y * p.y + p.z * p.z) - 1);
 }
 
+/// Scale factors whose squares over- or underflow T: 1e-200, 1e200 and the
+/// smallest normal number (denormal components) in double, their float
+/// counterparts, and 1 for comparison.
+template <class T>
+std::array<T, 5> awkward_scales() {
+    using lim = std::numeric_limits<T>;
+    return {T(1), std::ldexp(T(1), -(lim::max_exponent * 2) / 3), std::ldexp(T(1), (lim::max_exponent * 2) / 3),
+            lim::min(), lim::max() / T(4)};
+}
+template <class Q>
+Q scaled(const Q& q, scalar<Q> s) {
+    const lq p = to_lq(q);
+    using T = scalar<Q>;
+    return anima::quat_traits<Q>::make(T(p.w) * s, T(p.x) * s, T(p.y) * s, T(p.z) * s);
+}
+
 /// Seeded random numbers, vectors and rotations.
 struct rng {
     std::mt19937 gen;

@@ -7,6 +7,9 @@
 #include <anima/rotation/axis_angle.hpp>
 #include <anima/rotation/exp_log.hpp>
 #include <anima/rotation/quaternion.hpp>
+#include <anima/rotation/detail/so3.hpp>
+
+#include <unsupported/Eigen/AutoDiff>
 
 #include <type_traits>
 #include <vector>
@@ -321,5 +324,122 @@ TEST_CASE_TEMPLATE("angular_velocities over a sequence", Q, ANIMA_QUAT_TYPES) {
         CHECK_THROWS_AS(anima::angular_velocity(curve[0], curve[1], bad_dt), anima::invalid_argument);
         CHECK_THROWS_AS(anima::angular_velocities(curve, bad_dt), anima::invalid_argument);
         CHECK_THROWS_AS(anima::angular_velocities(std::vector<Q>{}, bad_dt), anima::invalid_argument);
+    }
+}
+
+TEST_CASE_TEMPLATE("norm, normalize, inverse, log and pow work for 1e-200, 1e200 and denormal quaternions", Q,
+                   ANIMA_QUAT_TYPES) {
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    rng r(14);
+    for (int i = 0; i < 50; ++i) {
+        const Q u = r.unit<Q>();
+        const T t = T(r.uniform(-2, 2));
+        for (const T s : awkward_scales<T>()) {
+            CAPTURE(s);
+            const Q q = scaled(u, s);
+            const lq stored = to_lq(q), ref = unit(stored);
+            const ld length = std::sqrt(stored.w * stored.w + stored.x * stored.x + stored.y * stored.y +
+                                        stored.z * stored.z);
+            CHECK(std::abs(anima::norm(q) - length) <= 2 * e * length);
+            const Q n = anima::normalize(q);
+            REQUIRE(finite(n));
+            CHECK(diff(n, ref) <= 2 * e);
+            const Q l = anima::log(q);
+            REQUIRE(finite(l));
+            const lq lr = to_lq(anima::log(from_lq<Q>(ref)));
+            CHECK(std::abs(ld(to_lq(l).w) - std::log(length)) <= 4 * e * std::max(ld(1), std::abs(std::log(length))));
+            CHECK(vdiff(vec{to_lq(l).x, to_lq(l).y, to_lq(l).z}, vec{lr.x, lr.y, lr.z}) <= 8 * e);
+            const Q p = anima::pow(q, t);
+            REQUIRE(finite(p));
+            CHECK(diff(p, anima::pow(from_lq<Q>(ref), t)) <= 8 * e);
+            CHECK(vdiff(anima::to_rotation_vector(q), anima::to_rotation_vector(from_lq<Q>(ref))) <= 8 * e);
+            if (s >= std::ldexp(T(1), -(std::numeric_limits<T>::max_exponent * 2) / 3) &&
+                s <= std::ldexp(T(1), (std::numeric_limits<T>::max_exponent * 2) / 3)) {
+                const Q v = anima::inverse(q);  // conj(q) / |q|^2: |q|^2 itself would over- or underflow
+                REQUIRE(finite(v));
+                CHECK(diff(anima::multiply(q, v), anima::identity<Q>()) <= 8 * e);
+            }
+        }
+    }
+    // The inverse of a denormal quaternion overflows: refused, not infinite.
+    const T tiny = std::numeric_limits<T>::denorm_min() * T(4);
+    CHECK_THROWS_AS(anima::inverse(make<Q>(tiny, 0, 0, 0)), anima::invalid_argument);
+    CHECK(diff(anima::normalize(make<Q>(tiny, 0, 0, 0)), make<Q>(1, 0, 0, 0)) == 0);
+}
+
+namespace {
+/// exp of the pure quaternion (0, h) in long double, for the reference derivatives.
+std::array<ld, 4> exp_ld(const vec& h) {
+    const ld a = vnorm(h);
+    const ld k = a == 0 ? 1 : std::sin(a) / a;
+    return {std::cos(a), k * h[0], k * h[1], k * h[2]};
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("the quaternion core runs on AutoDiff scalars with derivatives at and near the identity", T, float,
+                   double) {
+    // exp_pure and log_unit on Eigen::AutoDiffScalar (what the flight objective
+    // differentiates): values equal to the plain scalar's, derivatives equal
+    // to central differences of a long double exp, including at v = 0 where
+    // |v| has no derivative and below and above the series' switch-over.
+    using ad = Eigen::AutoDiffScalar<Eigen::Matrix<T, 3, 1>>;
+    const T e = eps<T>();
+    rng r(15);
+    for (const ld length : {0.0L, 1e-9L, 1e-4L, 5e-3L, 0.05L, 0.5L, 2.0L, 3.0L}) {
+        const vec axis = r.unit_vector();
+        const vec h{length * axis[0], length * axis[1], length * axis[2]};
+        const ad hx{static_cast<T>(h[0]), 3, 0}, hy{static_cast<T>(h[1]), 3, 1}, hz{static_cast<T>(h[2]), 3, 2};
+        const anima::detail::quat4<ad> q = anima::detail::exp_pure(hx, hy, hz);
+        const anima::detail::quat4<T> plain = anima::detail::exp_pure(T(h[0]), T(h[1]), T(h[2]));
+        CAPTURE(length);
+        CHECK(q.w.value() == plain.w);
+        CHECK(q.x.value() == plain.x);
+        const ad* out[4] = {&q.w, &q.x, &q.y, &q.z};
+        for (int c = 0; c < 3; ++c) {
+            vec hp = h, hm = h;
+            const ld step = 1e-7L;
+            hp[c] += step;
+            hm[c] -= step;
+            const auto fp = exp_ld(hp), fm = exp_ld(hm);
+            for (int k = 0; k < 4; ++k) {
+                const ld ref = (fp[k] - fm[k]) / (2 * step);
+                CHECK(std::abs(ld(out[k]->derivatives()[c]) - ref) <= 16 * e + 1e-9L);
+            }
+        }
+        // log_unit inverts exp_pure on the AutoDiff scalar too: d(log(exp h))/dh = I.
+        ad vx, vy, vz;
+        anima::detail::log_unit(q, vx, vy, vz);
+        const ad* v[3] = {&vx, &vy, &vz};
+        for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 3; ++c)
+                CHECK(std::abs(ld(v[i]->derivatives()[c]) - (i == c ? 1 : 0)) <= 64 * e * (1 + length * length));
+    }
+}
+
+TEST_CASE_TEMPLATE("right_jacobian_so3 maps rotation-vector steps to body angular velocity", T, float, double) {
+    // exp(v + dv) = exp(v) exp(Jr(v) dv) to first order, checked with a long
+    // double central difference, from 0 across the series' switch-overs to pi.
+    using mat3 = Eigen::Matrix<T, 3, 3>;
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    rng r(16);
+    for (const ld length : {0.0L, 1e-6L, 1e-3L, 0.02L, 0.5L, 0.99L, 1.01L, 2.0L, 3.1L}) {
+        const vec axis = r.unit_vector();
+        const vec v{length * axis[0], length * axis[1], length * axis[2]};
+        const mat3 jr = anima::detail::right_jacobian_so3(vec3(T(v[0]), T(v[1]), T(v[2])));
+        const lq q = rot(2 * vnorm(v) == 0 ? 0 : vnorm(v), vnorm(v) == 0 ? vec{1, 0, 0} : v);
+        for (int c = 0; c < 3; ++c) {
+            const ld step = 1e-8L;
+            vec vp = v, vm = v;
+            vp[c] += step;
+            vm[c] -= step;
+            const lq dp = conj(q) * rot(vnorm(vp), vp), dm = conj(q) * rot(vnorm(vm), vm);
+            // body angular velocity: the vector part of 2 q^-1 dq, divided by the step
+            for (int i = 0; i < 3; ++i) {
+                const ld ref = ((i == 0 ? dp.x : i == 1 ? dp.y : dp.z) - (i == 0 ? dm.x : i == 1 ? dm.y : dm.z)) / step;
+                CAPTURE(length);
+                CHECK(std::abs(ld(jr(i, c)) - ref) <= 8 * eps<T>() + 1e-9L);
+            }
+        }
     }
 }

@@ -4,7 +4,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
-#include <anima/flight/detail/scalar_value.hpp>
+#include <anima/core/scalar_value.hpp>
 
 #include <Eigen/Core>
 

@@ -24,9 +24,9 @@
 
 #include <anima/core/error.hpp>
 #include <anima/flight/body_model.hpp>
-#include <anima/flight/detail/scalar_value.hpp>
 #include <anima/flight/inverse_dynamics.hpp>
 #include <anima/flight/key_trajectory.hpp>
+#include <anima/rotation/detail/quat4.hpp>
 
 #include <Eigen/Core>
 #include <unsupported/Eigen/AutoDiff>
@@ -146,37 +146,6 @@ void flight_residuals(const rigid_body_model<S>& model, const key_trajectory<S>&
             row += 6;
         }
     }
-}
-
-/// Unit quaternion (w, x, y, z) of a rotation vector, with a series below
-/// a small angle so that derivatives at 0 exist.
-template <class S>
-Eigen::Matrix<S, 4, 1> quaternion_exp(const Eigen::Matrix<S, 3, 1>& v) {
-    using std::cos;
-    using std::sin;
-    using std::sqrt;
-    const S th2 = v.squaredNorm();
-    S c, s;  // cos(th/2), sin(th/2)/th
-    if (scalar_value(th2) < 1e-8) {
-        c = S(1) - th2 / S(8);
-        s = S(0.5) - th2 / S(48);
-    } else {
-        const S th = sqrt(th2);
-        c = cos(th / S(2));
-        s = sin(th / S(2)) / th;
-    }
-    Eigen::Matrix<S, 4, 1> q;
-    q << c, s * v;
-    return q;
-}
-
-/// Quaternion product of (w, x, y, z) 4-vectors.
-template <class S>
-Eigen::Matrix<S, 4, 1> quaternion_product(const Eigen::Matrix<S, 4, 1>& a, const Eigen::Matrix<S, 4, 1>& b) {
-    const Eigen::Matrix<S, 3, 1> av = a.template tail<3>(), bv = b.template tail<3>();
-    Eigen::Matrix<S, 4, 1> out;
-    out << a[0] * b[0] - av.dot(bv), a[0] * bv + b[0] * av + av.cross(bv);
-    return out;
 }
 
 }  // namespace detail
@@ -403,11 +372,15 @@ private:
         }
         for (std::size_t k = 0; k < n; ++k)
             for (std::size_t j = 0; j < nj; ++j) {
-                Eigen::Matrix<S, 3, 1> v;
-                for (int c = 0; c < 3; ++c) v[c] = e2 * tanh(S(x[at + c]));
+                // The key's rotation times exp of the rotation vector v = e2 tanh(x):
+                // the rotation toolkit's core, on the automatic-derivative scalar.
+                S h[3];
+                for (int c = 0; c < 3; ++c) h[c] = e2 * tanh(S(x[at + c])) / S(2);
                 at += 3;
-                quats[k][j] = detail::quaternion_product(Eigen::Matrix<S, 4, 1>(quats_[k][j].template cast<S>()),
-                                                         detail::quaternion_exp(v));
+                const auto& key = quats_[k][j];
+                const detail::quat4<S> moved =
+                    detail::quat4<S>{S(key[0]), S(key[1]), S(key[2]), S(key[3])} * detail::exp_pure(h[0], h[1], h[2]);
+                quats[k][j] << moved.w, moved.x, moved.y, moved.z;
             }
     }
 

@@ -14,7 +14,7 @@
 
 #include <anima/core/error.hpp>
 #include <anima/flight/cubic_spline.hpp>
-#include <anima/flight/detail/scalar_value.hpp>
+#include <anima/core/scalar_value.hpp>
 #include <anima/flight/inverse_dynamics.hpp>
 #include <anima/rotation/quat_traits.hpp>
 

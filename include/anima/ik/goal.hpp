@@ -4,7 +4,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
-#include <anima/ik/detail/so3.hpp>
+#include <anima/rotation/detail/so3.hpp>
 #include <anima/ik/kinematic_tree.hpp>
 #include <anima/rotation/exp_log.hpp>
 #include <anima/rotation/quat_traits.hpp>

@@ -25,12 +25,11 @@ Q exp(const Q& q) {
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q log(const Q& q) {
     using T = quat_scalar_t<Q>;
-    const auto p = detail::load(q);
-    const T n = detail::norm4(p);
-    const auto u = detail::normalized_or_throw(p, "anima::log");
+    T log_norm;
+    const auto u = detail::normalized_or_throw(detail::load(q), "anima::log", &log_norm);
     T vx, vy, vz;
     detail::log_unit(u, vx, vy, vz);
-    return quat_traits<Q>::make(std::log(n), vx, vy, vz);
+    return quat_traits<Q>::make(log_norm, vx, vy, vz);
 }
 
 /// q^t = exp(t log q) for a unit quaternion: the rotation scaled to t times its

@@ -11,6 +11,8 @@
 #include <anima/rotation/quat_traits.hpp>
 
 #include <cmath>
+#include <limits>
+#include <string>
 #include <type_traits>
 
 namespace anima {
@@ -21,10 +23,11 @@ quat_scalar_t<Q> dot(const Q& a, const Q& b) {
     return detail::dot4(detail::load(a), detail::load(b));
 }
 
-/// Euclidean norm of the four components.
+/// Euclidean norm of the four components, without overflow or underflow of
+/// the squares (finite for components like 1e200, non-zero for 1e-200).
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 quat_scalar_t<Q> norm(const Q& q) {
-    return detail::norm4(detail::load(q));
+    return detail::scaled_norm4(detail::load(q));
 }
 
 /// (w, -x, -y, -z): the inverse rotation of a unit quaternion.
@@ -33,15 +36,21 @@ Q conjugate(const Q& q) {
     return detail::store<Q>(detail::conj4(detail::load(q)));
 }
 
-/// conj(q) / |q|^2. Throws anima::invalid_argument for a zero or non-finite quaternion.
+/// conj(q) / |q|^2. Throws anima::invalid_argument for a zero or non-finite
+/// quaternion, or one whose inverse is not representable (|q| below about
+/// 1 / the largest finite value).
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q inverse(const Q& q) {
     using T = quat_scalar_t<Q>;
     const auto p = detail::load(q);
-    const T n2 = detail::dot4(p, p);
-    if (!(n2 > T(0)) || !std::isfinite(n2))
+    const T n = detail::scaled_norm4(p);
+    if (!(n > T(0)) || !(n <= std::numeric_limits<T>::max()))
         throw invalid_argument("anima::inverse: quaternion has zero or non-finite norm");
-    return detail::store<Q>(detail::conj4(p) * (T(1) / n2));
+    const auto r = detail::conj4(p * (T(1) / n)) * (T(1) / n);  // |q| divided out twice: no overflow of |q|^2
+    if (!std::isfinite(r.w) || !std::isfinite(r.x) || !std::isfinite(r.y) || !std::isfinite(r.z))
+        throw invalid_argument("anima::inverse: the inverse of a quaternion of norm " +
+                               std::to_string(static_cast<double>(n)) + " is not representable");
+    return detail::store<Q>(r);
 }
 
 /// q / |q|. Throws anima::invalid_argument for a zero or non-finite quaternion.

@@ -2,6 +2,7 @@
 // of orientations, built from slerps and one control point per key.
 #pragma once
 
+#include <anima/rotation/detail/angle_series.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
 #include <anima/rotation/slerp.hpp>
@@ -20,29 +21,61 @@ namespace anima {
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q squad_control_point(const Q& prev, const Q& q, const Q& next) {
     using T = quat_scalar_t<Q>;
-    const auto c = detail::normalized_or_throw(detail::load(q), "anima::squad_control_point");
-    auto p = detail::normalized_or_throw(detail::load(prev), "anima::squad_control_point");
-    auto n = detail::normalized_or_throw(detail::load(next), "anima::squad_control_point");
-    if (detail::dot4(c, p) < T(0)) p = -p;
-    if (detail::dot4(c, n) < T(0)) n = -n;
+    const auto c_in = detail::load(q), p_in = detail::load(prev), n_in = detail::load(next);
+    const auto c = detail::unit_or_throw(c_in, "anima::squad_control_point");
+    auto p = detail::unit_or_throw(p_in, "anima::squad_control_point");
+    auto n = detail::unit_or_throw(n_in, "anima::squad_control_point");
+    // The hemisphere test on the inputs as given, exactly as squad() makes it
+    // for a segment: a key pair 180 degrees apart (a.b = 0 up to rounding)
+    // then gets the same choice of arc in both places.
+    if (detail::dot4(c_in, p_in) < T(0)) p = -p;
+    if (detail::dot4(c_in, n_in) < T(0)) n = -n;
+    // Both relative rotations have w = c.n, c.p >= 0 and the sum of their logs
+    // is at most pi in length: the polynomial log and exp of angle_series.hpp
+    // cover them without an arc tangent, sine or cosine.
     const auto ci = detail::conj4(c);
     T ax, ay, az, bx, by, bz;
-    detail::log_unit(ci * n, ax, ay, az);
-    detail::log_unit(ci * p, bx, by, bz);
+    detail::log_unit_right_half(ci * n, ax, ay, az);
+    detail::log_unit_right_half(ci * p, bx, by, bz);
     const T k = T(-0.25);
-    return detail::store<Q>(c * detail::exp_pure(k * (ax + bx), k * (ay + by), k * (az + bz)));
+    return detail::store<Q>(c * detail::exp_pure_quarter_turn(k * (ax + bx), k * (ay + by), k * (az + bz)));
 }
 
+namespace detail {
+
+/// Squad on 4-vectors. q2 is taken on q1's side (the shorter arc of the
+/// segment) and s2 follows it: s2 was built on q2's side, so when q2 is
+/// negated s2 is too. The blends then follow the arcs as given: a shortest-arc
+/// choice of their own would send the curve the long way round when the
+/// control points are more than 90 degrees (4-vector angle) apart, which
+/// happens for keys more than 120 degrees apart.
+template <class T>
+quat4<T> squad4(const quat4<T>& q1, quat4<T> q2, const quat4<T>& s1, quat4<T> s2, T t) {
+    if (dot4(q1, q2) < T(0)) {
+        q2 = -q2;
+        s2 = -s2;
+    }
+    const char* who = "anima::squad";
+    const quat4<T> a = slerp4(q1, q2, t, arc::as_given, who, false);
+    const quat4<T> b = slerp4(s1, s2, t, arc::as_given, who, false);
+    return slerp4(a, b, T(2) * t * (T(1) - t), arc::as_given, who);
+}
+
+}  // namespace detail
+
 /// Squad between keys q1 (t = 0) and q2 (t = 1) with control points s1, s2:
-/// slerp(slerp(q1, q2, t), slerp(s1, s2, t), 2t(1 - t)). Passes through q1 and
-/// q2 exactly; with control points from squad_control_point consecutive
-/// segments join with continuous angular velocity.
+/// slerp(slerp(q1, q2, t), slerp(s1, s2, t), 2t(1 - t)), along the shorter
+/// arc from q1 to q2 (q2 and s2 are negated together when q1.q2 < 0), with
+/// the inner blends on the same side. Passes through q1 and q2 exactly; with
+/// control points from squad_control_point consecutive segments join with
+/// continuous angular velocity, and a segment of any angle up to 180 degrees
+/// turns monotonically from q1 to q2. Inputs of any non-zero finite length
+/// are normalised; throws anima::invalid_argument for a zero or non-finite
+/// quaternion or t.
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q squad(const Q& q1, const Q& q2, const Q& s1, const Q& s2, quat_scalar_t<Q> t) {
-    using T = quat_scalar_t<Q>;
-    const auto a = detail::slerp4(detail::load(q1), detail::load(q2), t, false);
-    const auto b = detail::slerp4(detail::load(s1), detail::load(s2), t, false);
-    return detail::store<Q>(detail::slerp4(a, b, T(2) * t * (T(1) - t)));
+    return detail::store<Q>(
+        detail::squad4(detail::load(q1), detail::load(q2), detail::load(s1), detail::load(s2), t));
 }
 
 }  // namespace anima

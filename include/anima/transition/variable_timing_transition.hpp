@@ -179,7 +179,9 @@ transition<T> make_transition(const clip<T>& a, std::size_t trigger, const clip<
             quat q;
             switch (out.methods[j]) {
                 case interpolation::lerp: q = anima::lerp(q1, q2, roles[j] == joint_role::finger ? h_linear : h); break;
-                case interpolation::squad: q = squad(q1, q2, s1[j], s2[j], h); break;
+                // B's rotation as it is: s2 was built on its side, and squad
+                // moves the two together to q1's side.
+                case interpolation::squad: q = squad(q1, pb.rotation(0, j), s1[j], s2[j], h); break;
                 default: q = slerp(q1, q2, h); break;
             }
             out.frames.set_rotation(k - 1, j, q);

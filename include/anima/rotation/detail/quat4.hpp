@@ -1,12 +1,18 @@
 // Internal plain quaternion used by the rotation toolkit. Public functions load
 // the user's type into quat4, compute, and store back through quat_traits, so
-// the maths is written once for every quaternion type.
+// the maths is written once for every quaternion type. The algebra, exp_pure
+// and log_unit also run on automatic-derivative scalars
+// (Eigen::AutoDiffScalar): the flight objective and IK use them so, with
+// derivatives that exist at the identity (series in squared norms there,
+// chosen by the scalar's value).
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/scalar_value.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -15,7 +21,6 @@ namespace anima::detail {
 
 template <class T>
 struct quat4 {
-    static_assert(std::is_floating_point_v<T>, "anima quaternions need a floating-point scalar");
     T w, x, y, z;
 
     friend quat4 operator*(const quat4& a, const quat4& b) {
@@ -77,58 +82,129 @@ constexpr T small_angle() {
     return value;
 }
 
-/// sin(x)/x, exact near 0.
+/// Largest component magnitude; NaN when a component is NaN.
 template <class T>
-T sinc(T x) {
-    if (std::abs(x) < small_angle<T>()) return T(1) - x * x / T(6);
-    return std::sin(x) / x;
+T max_abs4(const quat4<T>& q) {
+    T m = std::abs(q.w);
+    for (const T c : {q.x, q.y, q.z}) {
+        const T a = std::abs(c);
+        if (a > m || std::isnan(a)) m = a;  // a NaN, once taken, stays
+    }
+    return m;
 }
 
-/// Normalises, refusing a zero or non-finite norm: the caller names itself.
+/// |q| without overflow or underflow: for components far from 1 (1e-200,
+/// 1e200, denormals) the squares are formed after dividing by the largest
+/// component. Infinite for an infinite component, NaN for a NaN one.
 template <class T>
-quat4<T> normalized_or_throw(const quat4<T>& q, const char* who) {
-    const T n = norm4(q);
-    if (!(n > T(0)) || !std::isfinite(n))
-        throw invalid_argument(std::string(who) + ": quaternion has zero or non-finite norm (" +
-                               std::to_string(static_cast<double>(n)) + ")");
-    return q * (T(1) / n);
+T scaled_norm4(const quat4<T>& q) {
+    constexpr T lo = std::numeric_limits<T>::min() / std::numeric_limits<T>::epsilon();
+    constexpr T hi = std::numeric_limits<T>::max() / T(8);
+    const T n2 = dot4(q, q);
+    if (n2 >= lo && n2 <= hi) return std::sqrt(n2);
+    const T m = max_abs4(q);
+    if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return m;  // 0, inf or NaN
+    const quat4<T> s{q.w / m, q.x / m, q.y / m, q.z / m};
+    return m * norm4(s);
 }
 
-/// exp of a pure quaternion (0, v): (cos|v|, sin|v| v/|v|).
+/// Unit quaternion q / |q| and ln|q|, computed without overflow or underflow
+/// for any finite non-zero q; throws anima::invalid_argument naming the
+/// caller for a zero or non-finite quaternion.
 template <class T>
-quat4<T> exp_pure(T vx, T vy, T vz) {
-    const T a = std::sqrt(vx * vx + vy * vy + vz * vz);
-    const T s = sinc(a);
-    return {std::cos(a), s * vx, s * vy, s * vz};
+quat4<T> normalized_or_throw(const quat4<T>& q, const char* who, T* log_norm = nullptr) {
+    constexpr T lo = std::numeric_limits<T>::min() / std::numeric_limits<T>::epsilon();
+    constexpr T hi = std::numeric_limits<T>::max() / T(8);
+    const T n2 = dot4(q, q);
+    if (n2 >= lo && n2 <= hi) {  // the common case: the squares neither overflow nor underflow
+        const T n = std::sqrt(n2);
+        if (log_norm) *log_norm = std::log(n);
+        return q * (T(1) / n);
+    }
+    const T m = max_abs4(q);
+    if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max()))
+        throw invalid_argument(std::string(who) + ": quaternion has zero or non-finite norm (largest component " +
+                               std::to_string(static_cast<double>(m)) + ")");
+    const quat4<T> s{q.w / m, q.x / m, q.y / m, q.z / m};  // largest component exactly +-1
+    const T n = norm4(s);
+    if (log_norm) *log_norm = std::log(m) + std::log(n);
+    return s * (T(1) / n);
+}
+
+/// Inputs whose squared norm is within this of 1 count as unit quaternions
+/// up to one Newton step: 1.5 - n2/2 approximates 1/|q| with an error of
+/// 3/8 (n2 - 1)^2, below epsilon / 40 here.
+template <class T>
+constexpr T near_unit_tolerance() {
+    return constexpr_sqrt(std::numeric_limits<T>::epsilon()) / T(4);
+}
+
+/// Like normalized_or_throw, cheaper for inputs already near unit length
+/// (stored unit quaternions): one Newton step, no square root or division.
+template <class T>
+quat4<T> unit_or_throw(const quat4<T>& q, const char* who) {
+    const T n2 = dot4(q, q);
+    if (std::abs(n2 - T(1)) <= near_unit_tolerance<T>()) return q * (T(1.5) - T(0.5) * n2);
+    return normalized_or_throw(q, who);
+}
+
+/// cos(a) and sin(a)/a from a^2, for any scalar S including
+/// automatic-derivative ones. Below small_angle both are series in a^2 (three
+/// terms: the next is below epsilon there, and the derivatives stay
+/// accurate), which also avoids the square root whose derivative is infinite
+/// at 0.
+template <class S>
+void cos_and_sinc(const S& a2, S& c, S& k) {
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    using R = real_scalar_t<S>;
+    if (scalar_value(a2) < static_cast<double>(small_angle<R>() * small_angle<R>())) {
+        c = S(1) - a2 / S(2) + a2 * a2 / S(24);
+        k = S(1) - a2 / S(6) + a2 * a2 / S(120);
+    } else {
+        const S a = sqrt(a2);
+        c = cos(a);
+        k = sin(a) / a;
+    }
+}
+
+/// exp of a pure quaternion (0, v): (cos|v|, sin|v| v/|v|), for any scalar S.
+template <class S>
+quat4<S> exp_pure(const S& vx, const S& vy, const S& vz) {
+    S c, k;
+    cos_and_sinc(S(vx * vx + vy * vy + vz * vz), c, k);
+    return {c, k * vx, k * vy, k * vz};
 }
 
 /// Vector part of log of a unit quaternion: theta * axis where q = (cos theta, sin theta axis),
-/// theta in [0, pi]. atan2 keeps full precision at both ends.
-template <class T>
-void log_unit(const quat4<T>& q, T& vx, T& vy, T& vz) {
-    const T s = vector_norm(q);
-    const T theta = std::atan2(s, q.w);
-    // theta / sin(theta) written as theta / s; when s is tiny and w > 0 the ratio -> 1/w.
-    T k;
-    if (s < small_angle<T>() * std::abs(q.w)) {
-        if (q.w > T(0)) {
-            // atan(r)/r = 1 - r^2/3 + r^4/5 - ..., r = s/w; the r^4 term matters
-            // at this cut-off (chosen for sinc, whose next term is r^4/120).
-            const T r2 = s * s / (q.w * q.w);
-            k = (T(1) - r2 / T(3) + r2 * r2 / T(5)) / q.w;
-        } else {
-            // q ~ -1: the rotation is the identity reached the long way round (angle 2 pi).
-            // The axis is undefined when s == 0; choose x so the result is finite.
-            if (s == T(0)) {
-                vx = theta;
-                vy = T(0);
-                vz = T(0);
-                return;
-            }
-            k = theta / s;
-        }
+/// theta in [0, pi], for any scalar S. atan2 keeps full precision at both ends.
+template <class S>
+void log_unit(const quat4<S>& q, S& vx, S& vy, S& vz) {
+    using std::atan2;
+    using std::sqrt;
+    using R = real_scalar_t<S>;
+    const S s2 = q.x * q.x + q.y * q.y + q.z * q.z;
+    const double w = scalar_value(q.w), small = static_cast<double>(small_angle<R>());
+    // theta / sin(theta) = atan2(s, w) / s; when s is tiny and w > 0 the ratio
+    // is a series in r^2 = s^2 / w^2, free of the square root.
+    S k;
+    if (w > 0 && scalar_value(s2) < small * small * w * w) {
+        // atan(r)/r = 1 - r^2/3 + r^4/5 - ...; the r^4 term matters at this
+        // cut-off (small_angle is where x^4 / 120 drops below epsilon).
+        const S r2 = s2 / (q.w * q.w);
+        k = (S(1) - r2 / S(3) + r2 * r2 / S(5)) / q.w;
     } else {
-        k = theta / s;
+        const S s = sqrt(s2);
+        if (scalar_value(s) == 0.0) {
+            // q = -1: the identity reached the long way round (angle 2 pi); the
+            // axis is undefined, x is chosen so the result is finite.
+            vx = atan2(s, q.w);
+            vy = S(0);
+            vz = S(0);
+            return;
+        }
+        k = atan2(s, q.w) / s;
     }
     vx = k * q.x;
     vy = k * q.y;

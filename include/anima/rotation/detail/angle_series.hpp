@@ -1,0 +1,105 @@
+// Polynomial replacements for the trigonometric functions of slerp, log and
+// exp on the angles squad and slerp meet (4-vector angles up to about 90
+// degrees), so that the hot paths call no sine, cosine or arc tangent.
+//
+// With theta an angle of cosine d, phi = theta / 4 and c = cos(phi) (two
+// half-angle square roots of d), sin(theta) / sin(phi) is the polynomial
+// 4c(2c^2 - 1), and sin(tau phi) / (tau sin(phi)) is a power series in
+// y = c - 1 whose coefficients follow from the Chebyshev differential
+// equation (the idea of Eberly's "A Fast and Accurate Algorithm for
+// Computing SLERP", with two halvings of the angle instead of one so that
+// few terms suffice): with u_i = 1/(i(2i+1)) and v_i = i/(2i+1),
+//   sin(tau phi) / (tau sin(phi)) = 1 + w_1 (1 + w_2 (1 + ...)),  w_i = (tau^2 u_i - v_i) y.
+// For theta <= pi/2, |y| <= 1 - cos(pi/8) and each term is about 26 times
+// smaller than the one before when tau <= 4: 5 terms reach float precision,
+// 10 double precision. tau = 0 gives phi / sin(phi), hence theta / sin(theta),
+// the factor of a quaternion logarithm. Near theta = 0 the series is exact.
+#pragma once
+
+#include <anima/rotation/detail/quat4.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace anima::detail {
+
+/// Number of series terms for tau <= 4, theta <= pi/2 that leaves the
+/// truncation error below the scalar's rounding error.
+template <class T>
+constexpr int angle_series_terms() {
+    constexpr int digits = std::numeric_limits<T>::digits;
+    return digits <= 24 ? 5 : digits <= 53 ? 10 : 14;
+}
+
+/// u_i and v_i of the series, i = 1..N (index 0 unused).
+template <class T, int N>
+struct angle_series_coefficients {
+    T u[N + 1]{};
+    T v[N + 1]{};
+    constexpr angle_series_coefficients() {
+        for (int i = 1; i <= N; ++i) {
+            u[i] = T(1) / T(i * (2 * i + 1));
+            v[i] = T(i) / T(2 * i + 1);
+        }
+    }
+};
+
+/// cos(theta / 4) from d = cos(theta), d in [-1, 1] (a hair beyond is fine).
+template <class T>
+T cos_quarter_angle(T d) {
+    const T c2 = std::sqrt(T(0.5) + T(0.5) * d);  // cos(theta / 2)
+    return std::sqrt(T(0.5) + T(0.5) * c2);
+}
+
+/// sin(theta) / sin(theta / 4) = 4c(2c^2 - 1), c = cos(theta / 4).
+template <class T>
+T sin_over_sin_quarter(T c) {
+    return T(4) * c * (T(2) * c * c - T(1));
+}
+
+/// sin(tau phi) / (tau sin(phi)) for tau^2 = sq and y = cos(phi) - 1, by
+/// Horner's rule over pairs of terms, 1 + w1 + w1 w2 (1 + w3 + w3 w4 (...)),
+/// which halves the dependency chain.
+template <class T>
+T angle_series(T sq, T y) {
+    constexpr int n = angle_series_terms<T>();
+    static constexpr angle_series_coefficients<T, n> s{};
+    T w[n + 2];
+    for (int i = 1; i <= n; ++i) w[i] = (sq * s.u[i] - s.v[i]) * y;
+    w[n + 1] = T(0);
+    T a = T(1);
+    for (int i = (n % 2 == 0 ? n - 1 : n); i >= 1; i -= 2) a = T(1) + w[i] + (w[i] * w[i + 1]) * a;
+    return a;
+}
+
+/// Vector part of log of a unit quaternion with w >= 0 (rotation angle at
+/// most 180 degrees): theta * axis, theta = atan2(|v|, w) <= pi/2, without
+/// an arc tangent. w a hair below 0 is fine.
+template <class T>
+void log_unit_right_half(const quat4<T>& q, T& vx, T& vy, T& vz) {
+    const T c = cos_quarter_angle(q.w);
+    const T k = T(4) * angle_series(T(0), c - T(1)) / sin_over_sin_quarter(c);  // theta / sin(theta)
+    vx = k * q.x;
+    vy = k * q.y;
+    vz = k * q.z;
+}
+
+/// exp of a pure quaternion (0, v) with |v| <= pi/2 by Taylor polynomials in
+/// |v|^2 (float: 8 terms, double: 12; the first omitted term is below
+/// epsilon at pi/2); larger |v| go to exp_pure.
+template <class T>
+quat4<T> exp_pure_quarter_turn(T vx, T vy, T vz) {
+    constexpr int n = std::numeric_limits<T>::digits <= 24 ? 8 : std::numeric_limits<T>::digits <= 53 ? 12 : 15;
+    const T a2 = vx * vx + vy * vy + vz * vz;
+    if (!(a2 <= T(2.4674011002723395)))  // (pi/2)^2
+        return exp_pure(vx, vy, vz);
+    // cos a = sum (-1)^i a^2i / (2i)!, sin a / a = sum (-1)^i a^2i / (2i+1)!, by Horner's rule.
+    T c = T(1), k = T(1);
+    for (int i = n - 1; i >= 1; --i) {
+        c = T(1) - a2 * (T(1) / T((2 * i - 1) * (2 * i))) * c;
+        k = T(1) - a2 * (T(1) / T((2 * i) * (2 * i + 1))) * k;
+    }
+    return {c, k * vx, k * vy, k * vz};
+}
+
+}  // namespace anima::detail
