@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -95,6 +96,22 @@ frame_targets read_targets(const std::string& path) {
     return targets;
 }
 
+using wanted_list = std::vector<std::pair<std::string, vec3>>;
+
+/// A frame's targets in the order of the learned model's effectors; every
+/// effector must have one.
+wanted_list in_model_order(const wanted_list& listed, const wanted_list& model, std::size_t frame) {
+    wanted_list out;
+    for (const auto& m : model) {
+        const auto it = std::find_if(listed.begin(), listed.end(), [&](const auto& w) { return w.first == m.first; });
+        if (it == listed.end())
+            throw failure("frame " + std::to_string(frame) + " has no target for '" + m.first +
+                          "': the learned solver needs a target for every effector it was trained on, in every frame");
+        out.push_back(*it);
+    }
+    return out;
+}
+
 struct solver_setup {
     anima::kinematic_tree<double> tree;
     anima::ik_params<double> params;
@@ -103,7 +120,7 @@ struct solver_setup {
 
 anima::ik_result<double> run_solver(const ik_options& o, const solver_setup& s,
                                     const std::vector<anima::ik_goal<double>>& goals, const anima::ik_vector<double>& q0,
-                                    const anima::ik_params<double>& params) {
+                                    const anima::ik_params<double>& params, long* cluster) {
     anima::damped_least_squares<double>::params d;
     d.adaptive = true;
     if (o.solver == "pinv") return anima::solve_ik(s.tree, goals, q0, anima::pseudo_inverse<double>{}, params);
@@ -121,7 +138,9 @@ anima::ik_result<double> run_solver(const ik_options& o, const solver_setup& s,
     }
     anima::learned_solve_params<double> l;
     l.ik = params;
-    return anima::solve_ik_learned(s.tree, *s.model, goals, l);
+    auto r = anima::solve_ik_learned(s.tree, *s.model, goals, l);
+    *cluster = static_cast<long>(r.cluster);
+    return r;
 }
 
 void run_ik(const ik_options& o) {
@@ -212,7 +231,9 @@ void run_ik(const ik_options& o) {
     double worst = 0;
     anima::ik_vector<double> previous;
     std::size_t previous_frame = 0, done = 0;
-    for (const auto& [f, frame_wanted] : per_frame) {
+    for (const auto& [f, listed] : per_frame) {
+        // The learned model solves for all its effectors at once, in its order.
+        const auto frame_wanted = learned ? in_model_order(listed, wanted, f) : listed;
         s.tree.set_base(original, f);
         const auto truth = anima::forward_kinematics(original, f);
         std::vector<anima::ik_goal<double>> goals;
@@ -228,7 +249,8 @@ void run_ik(const ik_options& o) {
             params.restarts = 0;
         }
         const bool follows = previous.size() && f == previous_frame + 1;
-        const auto r = run_solver(o, s, goals, follows ? previous : own, params);
+        long cluster = -1;
+        const auto r = run_solver(o, s, goals, follows ? previous : own, params, &cluster);
         previous = r.q;
         previous_frame = f;
         s.tree.write_pose(r.q, c, f);
@@ -236,10 +258,15 @@ void run_ik(const ik_options& o) {
         converged_frames += r.converged();
         worst = std::max(worst, r.max_position_error);
         if (!smooth || f == last)
-            for (std::size_t i = 0; i < goals.size(); ++i)
-                effectors.push_back({{"name", frame_wanted[i].first},
-                                     {"error", r.errors[i].position},
-                                     {"status", anima::to_string(r.status)}});
+            for (std::size_t i = 0; i < goals.size(); ++i) {
+                json e = {{"name", frame_wanted[i].first},
+                          {"frame", f},
+                          {"error", r.errors[i].position},
+                          {"reached", r.errors[i].position <= params.tolerance},
+                          {"status", anima::to_string(r.status)}};
+                if (learned) e["cluster"] = cluster;
+                effectors.push_back(std::move(e));
+            }
         if (smooth && ++done % 20 == 0)
             std::cerr << "anima ik: " << done << " of " << per_frame.size() << " frames solved\n";
     }

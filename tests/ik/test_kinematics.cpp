@@ -145,6 +145,45 @@ TEST_CASE_TEMPLATE("goal_jacobian matches central differences (ball, hinge, root
     }
 }
 
+TEST_CASE_TEMPLATE("goal_jacobian of line, plane, half-space and aim goals matches central differences", T, float,
+                   double) {
+    using v3 = Eigen::Matrix<T, 3, 1>;
+    const auto walk = read_bvh<T>(bundled("walk_cmu31_02_01.bvh"));
+    const auto& sk = walk.skeleton();
+    kinematic_tree<T> tree(sk);
+    tree.set_root_translation(true);
+    tree.set_base(walk, 50);
+    std::vector<ik_goal<T>> goals{line_goal<T>(sk.index_of("LeftHand"), v3(1, 2, 3), v3(1, 1, 0)),
+                                  plane_goal<T>(sk.index_of("RightHand"), v3(0, 5, 0), v3(0, 1, 1), v3(0, T(0.5), 0)),
+                                  // the floor far above the foot: the half-space is violated, its row active
+                                  half_space_goal<T>(sk.index_of("LeftFoot"), v3(0, 100, 0), v3(0, 1, 0)),
+                                  aim_goal<T>(sk.index_of("Head"), v3(0, 0, 1), v3(1, 0, 1))};
+    goals[3].weight = T(3);
+    check_goals(tree, goals, "test");  // normalises the directions, as every solver does
+    random_source rng(7);
+    for (int trial = 0; trial < 3; ++trial) {
+        const ik_vector<T> q = tree.pose_of(walk, 50) + T(0.3) * anima_ik_test::random_q(tree, rng);
+        // These residuals are not raw positions and rotations: differentiate
+        // goal_residual itself (its derivative is -J).
+        const auto residual = [&](const ik_vector<T>& x, ik_vector<T>& r) {
+            ik_state<T> s;
+            tree.forward(x, s);
+            goal_residual(s, goals, r);
+        };
+        const auto jac = goal_jacobian(tree, q, goals);
+        const auto num = numeric_jacobian<T>(residual, q, tolerance<T>(1e-6, 3e-3));
+        const T scale = T(1) + num.cwiseAbs().maxCoeff();
+        CHECK((jac + num).cwiseAbs().maxCoeff() < tolerance<T>(1e-6, 5e-2) * scale);
+    }
+    // Satisfied half-space: no residual, no Jacobian rows.
+    std::vector<ik_goal<T>> below{half_space_goal<T>(sk.index_of("LeftFoot"), v3(0, -100, 0), v3(0, 1, 0))};
+    CHECK(goal_jacobian(tree, tree.pose_of(walk, 50), below).isZero());
+    // A zero direction is refused by name.
+    below[0].direction.setZero();
+    CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)goal_jacobian(tree, tree.pose_of(walk, 50), below); }),
+                               "non-zero"));
+}
+
 TEST_CASE_TEMPLATE("7-DOF arm: Jacobian of a hinge chain matches central differences", T, float, double) {
     const auto arm = anima_ik_test::seven_dof_arm<T>();
     std::vector<ik_goal<T>> goals{pose_goal(6, Eigen::Matrix<T, 3, 1>::Zero(), Eigen::Quaternion<T>::Identity())};

@@ -25,6 +25,7 @@ template <class T>
 struct bfgs_ik_params {
     ik_params<T> ik;            ///< tolerances, iterations (per attempt), restarts, limits
     int memory = 0;             ///< 0: dense BFGS; m > 0: L-BFGS
+    int polish_iterations = 10;       ///< pseudo-inverse steps after an attempt that misses (0: none)
 };
 
 template <class T>
@@ -34,7 +35,9 @@ ik_result<T> solve_ik_bfgs(const kinematic_tree<T>& tree, std::vector<ik_goal<T>
     tree.check_q(q0, who);
     check_goals(tree, goals, who);
     detail::check_ik_params(prm.ik, tree.dofs(), who);
-    if (prm.memory < 0) throw invalid_argument(std::string(who) + ": memory is " + std::to_string(prm.memory));
+    if (prm.memory < 0 || prm.polish_iterations < 0)
+        throw invalid_argument(std::string(who) + ": memory is " + std::to_string(prm.memory) + ", polish_iterations " +
+                               std::to_string(prm.polish_iterations) + " (both must be >= 0)");
     const int n = tree.dofs();
     const detail::sine_limits<T> limits(tree, prm.ik.limits);
 
@@ -58,7 +61,7 @@ ik_result<T> solve_ik_bfgs(const kinematic_tree<T>& tree, std::vector<ik_goal<T>
     const T stop_value = detail::goal_stop_value(goals, prm.ik);
     bp.on_iteration = [&](int, T value) { return value > stop_value; };
 
-    return detail::solve_with_restarts(tree, goals, ik_vector<T>(q0), prm.ik, limits,
+    return detail::solve_with_restarts(tree, goals, ik_vector<T>(q0), prm.ik, limits, prm.polish_iterations,
                                        [&](const ik_vector<T>& u0) { return bfgs_minimize<T>(objective, u0, bp); });
 }
 

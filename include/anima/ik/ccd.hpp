@@ -2,9 +2,14 @@
 // by joint from the effector up, the shortest-arc rotation that swings the
 // effector toward the target is applied to the joint (a ball joint takes it
 // whole, a hinge its component about the axis), then clamped to the limits.
-// Position goals only; several goals are visited in turn each sweep.
+// Orientation and aim goals turn the joint by the rotation that takes the
+// current orientation (or axis) to the target; a pose goal uses its
+// position's swing on the ancestors and its orientation on its own joint.
+// Line, plane and half-space goals swing toward the nearest point that
+// meets them. Several goals are visited in turn each sweep.
 #pragma once
 
+#include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>
@@ -21,6 +26,33 @@
 
 namespace anima {
 
+namespace detail {
+
+/// The point a point goal swings its effector x toward: the target, or the
+/// nearest point of the line, plane or (violated) half-space.
+template <class T>
+Eigen::Matrix<T, 3, 1> ccd_aim_point(const ik_goal<T>& g, const Eigen::Matrix<T, 3, 1>& x) {
+    return x + position_projection(g, x) * (g.position - x);
+}
+
+/// World rotation CCD applies at joint ju for goal g (identity when the
+/// joint cannot help), before it is reduced to the joint's DOFs.
+template <class T>
+Eigen::Quaternion<T> ccd_world_rotation(const ik_state<T>& s, const ik_goal<T>& g, std::size_t ju, T tiny) {
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    using quat = Eigen::Quaternion<T>;
+    if (g.has_orientation() && (ju == g.joint || !g.has_position())) {
+        if (g.kind == ik_goal_kind::aim) return quat::FromTwoVectors(s.orientations[g.joint] * g.axis, g.direction);
+        return (g.orientation * s.orientations[g.joint].conjugate()).normalized();
+    }
+    const vec3 x = effector_position(s, g);
+    const vec3 a = x - s.positions[ju], b = ccd_aim_point(g, x) - s.positions[ju];
+    if (a.norm() < tiny || b.norm() < tiny) return quat::Identity();
+    return quat::FromTwoVectors(a, b);
+}
+
+}  // namespace detail
+
 /// One sweep is one iteration. params.null_space, step_scale and restarts
 /// are not used (restarts: yes, from random poses, as in solve_ik).
 template <class T>
@@ -32,10 +64,6 @@ ik_result<T> solve_ik_ccd(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>
     tree.check_q(q0, who);
     check_goals(tree, goals, who);
     detail::check_ik_params(params, tree.dofs(), who);
-    for (std::size_t i = 0; i < goals.size(); ++i)
-        if (goals[i].kind != ik_goal_kind::position)
-            throw invalid_argument(std::string(who) + ": goal " + std::to_string(i) +
-                                   " is not a position goal; CCD handles position goals only");
     const auto& sk = tree.skeleton();
     const T tiny = std::sqrt(std::numeric_limits<T>::epsilon());
     ik_state<T> s;
@@ -66,20 +94,28 @@ ik_result<T> solve_ik_ccd(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>
                     const int d0 = tree.first_dof(ju);
                     if (d0 < 0) continue;
                     tree.forward_unchecked(q, s);
-                    vec3 a = effector_position(s, g) - s.positions[ju];
-                    vec3 b = g.position - s.positions[ju];
+                    const bool turning = g.has_orientation() && (ju == g.joint || !g.has_position());
                     if (tree.kind(ju) == ik_joint_kind::hinge) {
                         const vec3 axis = s.orientations[ju] * tree.hinge_axis(ju);
-                        a -= axis * axis.dot(a);
-                        b -= axis * axis.dot(b);
-                        if (a.norm() < tiny || b.norm() < tiny) continue;
-                        q[d0] += std::atan2(axis.dot(a.cross(b)), a.dot(b));
+                        if (turning) {  // the twist of the wanted rotation about the hinge's axis
+                            const quat turn = detail::ccd_world_rotation(s, g, ju, tiny);
+                            T angle = T(2) * std::atan2(axis.dot(turn.vec()), turn.w());
+                            if (angle > pi<T>) angle -= T(2) * pi<T>;
+                            if (angle < -pi<T>) angle += T(2) * pi<T>;
+                            q[d0] += angle;
+                        } else {  // the best angle: both arms projected on the hinge's plane
+                            const vec3 x = effector_position(s, g);
+                            vec3 a = x - s.positions[ju], b = detail::ccd_aim_point(g, x) - s.positions[ju];
+                            a -= axis * axis.dot(a);
+                            b -= axis * axis.dot(b);
+                            if (a.norm() < tiny || b.norm() < tiny) continue;
+                            q[d0] += std::atan2(axis.dot(a.cross(b)), a.dot(b));
+                        }
                     } else {
-                        if (a.norm() < tiny || b.norm() < tiny) continue;
-                        const quat swing = quat::FromTwoVectors(a, b);  // world frame
+                        const quat turn = detail::ccd_world_rotation(s, g, ju, tiny);
                         const quat parent = sk[ju].parent < 0 ? quat::Identity()
                                                               : s.orientations[static_cast<std::size_t>(sk[ju].parent)];
-                        const quat local = parent.conjugate() * swing * s.orientations[ju];
+                        const quat local = parent.conjugate() * turn * s.orientations[ju];
                         q.template segment<3>(d0) = to_rotation_vector(local.normalized());
                     }
                     if (params.limits) q = tree.clamp(q);

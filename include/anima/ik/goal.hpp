@@ -19,7 +19,13 @@
 
 namespace anima {
 
-enum class ik_goal_kind : unsigned char { position, orientation, pose };
+/// position / orientation / pose: the point reaches a position, the joint
+/// an orientation, or both. Zhao and Badler's constraints on the point:
+/// `line` (on the line through `position` along `direction`), `plane` (on
+/// the plane through `position` with normal `direction`), `half_space` (on
+/// the side of that plane the normal points to, e.g. a foot above the
+/// floor). `aim`: the joint-local `axis` points along the world `direction`.
+enum class ik_goal_kind : unsigned char { position, orientation, pose, line, plane, half_space, aim };
 
 /// A point fixed to a joint (`offset` in the joint's frame, e.g. its End
 /// Site) asked to reach a world position, the joint to reach a world
@@ -32,13 +38,74 @@ struct ik_goal {
     ik_goal_kind kind = ik_goal_kind::position;
     Eigen::Matrix<T, 3, 1> position = Eigen::Matrix<T, 3, 1>::Zero();
     Eigen::Quaternion<T> orientation = Eigen::Quaternion<T>::Identity();
+    Eigen::Matrix<T, 3, 1> direction = Eigen::Matrix<T, 3, 1>::UnitZ();  ///< line, normal or aim direction (world)
+    Eigen::Matrix<T, 3, 1> axis = Eigen::Matrix<T, 3, 1>::UnitZ();       ///< aim: the axis in the joint's frame
     T weight = T(1);
     T orientation_scale = T(1);
 
     int rows() const { return kind == ik_goal_kind::pose ? 6 : 3; }
-    bool has_position() const { return kind != ik_goal_kind::orientation; }
-    bool has_orientation() const { return kind != ik_goal_kind::position; }
+    /// Three rows on the point's position (projected for line, plane, half-space).
+    bool has_position() const { return kind != ik_goal_kind::orientation && kind != ik_goal_kind::aim; }
+    /// Three rows on the joint's orientation (for aim: the axis's direction).
+    bool has_orientation() const {
+        return kind == ik_goal_kind::orientation || kind == ik_goal_kind::pose || kind == ik_goal_kind::aim;
+    }
+    bool constrains_direction() const {
+        return kind == ik_goal_kind::line || kind == ik_goal_kind::plane || kind == ik_goal_kind::half_space ||
+               kind == ik_goal_kind::aim;
+    }
 };
+
+namespace detail {
+
+template <class T>
+ik_goal<T> point_constraint(ik_goal_kind kind, std::size_t joint, const Eigen::Matrix<T, 3, 1>& point,
+                            const Eigen::Matrix<T, 3, 1>& direction, const Eigen::Matrix<T, 3, 1>& offset) {
+    ik_goal<T> g;
+    g.kind = kind;
+    g.joint = joint;
+    g.offset = offset;
+    g.position = point;
+    g.direction = direction;
+    return g;
+}
+
+}  // namespace detail
+
+/// The point (joint plus local offset) on the line through `point` along `direction`.
+template <class T>
+ik_goal<T> line_goal(std::size_t joint, const Eigen::Matrix<T, 3, 1>& point, const Eigen::Matrix<T, 3, 1>& direction,
+                     const Eigen::Matrix<T, 3, 1>& offset = Eigen::Matrix<T, 3, 1>::Zero()) {
+    return detail::point_constraint(ik_goal_kind::line, joint, point, direction, offset);
+}
+
+/// The point on the plane through `point` with normal `normal`.
+template <class T>
+ik_goal<T> plane_goal(std::size_t joint, const Eigen::Matrix<T, 3, 1>& point, const Eigen::Matrix<T, 3, 1>& normal,
+                      const Eigen::Matrix<T, 3, 1>& offset = Eigen::Matrix<T, 3, 1>::Zero()) {
+    return detail::point_constraint(ik_goal_kind::plane, joint, point, normal, offset);
+}
+
+/// The point on the side of the plane through `point` that `normal` points
+/// to (normal . (x - point) >= 0); no pull while it is there.
+template <class T>
+ik_goal<T> half_space_goal(std::size_t joint, const Eigen::Matrix<T, 3, 1>& point, const Eigen::Matrix<T, 3, 1>& normal,
+                           const Eigen::Matrix<T, 3, 1>& offset = Eigen::Matrix<T, 3, 1>::Zero()) {
+    return detail::point_constraint(ik_goal_kind::half_space, joint, point, normal, offset);
+}
+
+/// The joint-local `axis` of joint j points along the world `direction`
+/// (a head looking at something, a hand's palm turned down); rotation about
+/// the axis is free.
+template <class T>
+ik_goal<T> aim_goal(std::size_t joint, const Eigen::Matrix<T, 3, 1>& axis, const Eigen::Matrix<T, 3, 1>& direction) {
+    ik_goal<T> g;
+    g.kind = ik_goal_kind::aim;
+    g.joint = joint;
+    g.axis = axis;
+    g.direction = direction;
+    return g;
+}
 
 /// A position goal for joint j (plus a local offset).
 template <class T>
@@ -95,6 +162,15 @@ void check_goals(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>& goals, 
         const T n = g.orientation.norm();
         if (!(n > T(0))) throw invalid_argument(at + ": zero orientation quaternion");
         g.orientation.coeffs() /= n;
+        if (g.constrains_direction()) {
+            const T dn = g.direction.norm(), an = g.axis.norm();
+            if (!(dn > T(0)) || !std::isfinite(dn) || !(an > T(0)) || !std::isfinite(an))
+                throw invalid_argument(at + " (joint '" + tree.skeleton()[g.joint].name +
+                                       "'): the direction (line, normal or aim) and the aim axis must be finite and "
+                                       "non-zero");
+            g.direction /= dn;
+            g.axis /= an;
+        }
     }
 }
 
@@ -119,6 +195,26 @@ struct goal_error {
     T angle = T(0);
 };
 
+namespace detail {
+
+/// The projection applied to a point goal's residual (target - x): identity
+/// for a position, onto the plane normal to the line for a line, onto the
+/// normal for a plane, and for a half-space onto the normal while the point
+/// is on the wrong side, zero otherwise.
+template <class T>
+Eigen::Matrix<T, 3, 3> position_projection(const ik_goal<T>& g, const Eigen::Matrix<T, 3, 1>& x) {
+    using mat3 = Eigen::Matrix<T, 3, 3>;
+    const Eigen::Matrix<T, 3, 1>& d = g.direction;
+    switch (g.kind) {
+        case ik_goal_kind::line: return mat3::Identity() - d * d.transpose();
+        case ik_goal_kind::plane: return d * d.transpose();
+        case ik_goal_kind::half_space: return d.dot(x - g.position) < T(0) ? mat3(d * d.transpose()) : mat3(mat3::Zero());
+        default: return mat3::Identity();
+    }
+}
+
+}  // namespace detail
+
 /// Weighted residual (target - current) of every goal stacked: 3 rows of
 /// position, then 3 of orientation (the rotation vector taking the current
 /// orientation to the target, in world axes, times orientation_scale).
@@ -133,12 +229,18 @@ void goal_residual(const ik_state<T>& s, const std::vector<ik_goal<T>>& goals, i
         const auto& g = goals[i];
         goal_error<T> e;
         if (g.has_position()) {
-            const Eigen::Matrix<T, 3, 1> d = g.position - effector_position(s, g);
+            const Eigen::Matrix<T, 3, 1> d = detail::position_projection(g, effector_position(s, g)) *
+                                             (g.position - effector_position(s, g));
             e.position = d.norm();
             r.template segment<3>(row) = g.weight * d;
             row += 3;
         }
-        if (g.has_orientation()) {
+        if (g.kind == ik_goal_kind::aim) {
+            const Eigen::Matrix<T, 3, 1> u = s.orientations[g.joint] * g.axis;
+            e.angle = std::atan2(u.cross(g.direction).norm(), u.dot(g.direction));
+            r.template segment<3>(row) = g.weight * g.orientation_scale * (g.direction - u);
+            row += 3;
+        } else if (g.has_orientation()) {
             const Eigen::Matrix<T, 3, 1> w = to_rotation_vector(Eigen::Quaternion<T>(g.orientation * s.orientations[g.joint].conjugate()));
             e.angle = w.norm();
             r.template segment<3>(row) = g.weight * g.orientation_scale * w;
@@ -163,6 +265,9 @@ void goal_jacobian(const kinematic_tree<T>& tree, const ik_vector<T>& q, const i
     int row = 0;
     for (const auto& g : goals) {
         const vec3 x = effector_position(s, g);
+        const Eigen::Matrix<T, 3, 3> proj = detail::position_projection(g, x);
+        const vec3 u = s.orientations[g.joint] * g.axis;  // aim: the axis in world
+        const bool aim = g.kind == ik_goal_kind::aim;
         const int prow = g.has_position() ? row : -1;
         const int orow = g.has_orientation() ? row + (g.has_position() ? 3 : 0) : -1;
         const T ow = g.weight * g.orientation_scale;
@@ -171,8 +276,8 @@ void goal_jacobian(const kinematic_tree<T>& tree, const ik_vector<T>& q, const i
             const int d0 = tree.first_dof(ju);
             if (d0 < 0) continue;
             const auto column = [&](int k, const vec3& w) {
-                if (prow >= 0) jac.template block<3, 1>(prow, k) = g.weight * w.cross(x - s.positions[ju]);
-                if (orow >= 0) jac.template block<3, 1>(orow, k) = ow * w;
+                if (prow >= 0) jac.template block<3, 1>(prow, k) = g.weight * (proj * w.cross(x - s.positions[ju]));
+                if (orow >= 0) jac.template block<3, 1>(orow, k) = aim ? vec3(ow * w.cross(u)) : vec3(ow * w);
             };
             if (tree.kind(ju) == ik_joint_kind::hinge) {
                 column(d0, s.orientations[ju] * tree.hinge_axis(ju));
@@ -183,7 +288,7 @@ void goal_jacobian(const kinematic_tree<T>& tree, const ik_vector<T>& q, const i
             }
         }
         if (tree.root_translation() && prow >= 0 && tree.is_ancestor(0, g.joint))
-            jac.template block<3, 3>(prow, 0) = g.weight * Eigen::Matrix<T, 3, 3>::Identity();
+            jac.template block<3, 3>(prow, 0) = g.weight * proj;
         row += g.rows();
     }
 }

@@ -38,7 +38,7 @@ struct learned_ik_params {
     int epochs = 30;
     T learning_rate = T(0.5);    ///< initial
     T radius = T(0);             ///< initial neighbourhood radius in nodes; 0: half the larger grid side
-    T ridge = T(1e-3);           ///< Eq 3 regulariser, relative to the mean squared effector displacement
+    T ridge = T(10);             ///< Eq 3 regulariser, relative to the mean squared effector displacement
     std::uint64_t seed = 1;
 };
 
@@ -48,6 +48,21 @@ struct ik_effector {
     std::string joint;
     Eigen::Matrix<T, 3, 1> offset = Eigen::Matrix<T, 3, 1>::Zero();
 };
+
+/// Effector positions of pose q in the root joint's frame, stacked (3 per
+/// effector; joints[i] is effector i's skeleton index).
+template <class T>
+ik_vector<T> root_frame_effectors(const kinematic_tree<T>& tree, const std::vector<std::size_t>& joints,
+                                  const std::vector<ik_effector<T>>& effectors, const ik_vector<T>& q) {
+    ik_state<T> s;
+    tree.forward_unchecked(q, s);
+    ik_vector<T> g(3 * static_cast<Eigen::Index>(joints.size()));
+    const auto root_inv = s.orientations[0].conjugate();
+    for (std::size_t i = 0; i < joints.size(); ++i)
+        g.template segment<3>(3 * static_cast<Eigen::Index>(i)) =
+            root_inv * (s.positions[joints[i]] + s.orientations[joints[i]] * effectors[i].offset - s.positions[0]);
+    return g;
+}
 
 template <class T>
 class learned_ik_model {
@@ -118,17 +133,75 @@ public:
     /// The learned J+ of cluster c (dofs x 3E); empty when it had too few members.
     const ik_matrix<T>& inverse(Eigen::Index c) const { return inverses_.at(static_cast<std::size_t>(c)); }
 
+    /// Clusters blended for a goal and their weights (sum 1).
+    struct blend {
+        std::vector<Eigen::Index> clusters;  ///< nearest the goal first
+        std::vector<T> weights;
+    };
+
+    /// The `count` clusters whose reference effectors are nearest `target`
+    /// (effector positions in the root frame, stacked as effectors_of
+    /// returns them), weighted by inverse squared distance.
+    blend nearest_to_goal(const ik_vector<T>& target, int count) const {
+        if (target.size() != centre_effectors_.rows() || !target.allFinite() || count < 1 || !clusters())
+            throw invalid_argument("anima::learned_ik_model::nearest_to_goal: target of " +
+                                   std::to_string(target.size()) + " values for " + std::to_string(centre_effectors_.rows()) +
+                                   " (or non-finite), count " + std::to_string(count) + " (must be >= 1)");
+        const ik_vector<T> d2 = (centre_effectors_.colwise() - target).colwise().squaredNorm().transpose();
+        std::vector<Eigen::Index> order(static_cast<std::size_t>(d2.size()));
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
+        const auto n = std::min(order.size(), static_cast<std::size_t>(count));
+        std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n), order.end(),
+                          [&](Eigen::Index a, Eigen::Index b) { return d2[a] < d2[b]; });
+        blend b;
+        b.clusters.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n));
+        // A tiny floor (relative to the farthest blended distance) keeps a
+        // target sitting on a reference pose finite: that pose then dominates.
+        const T floor = std::max(d2[b.clusters.back()] * T(1e-12), std::numeric_limits<T>::min());
+        T sum = T(0);
+        for (const auto c : b.clusters) {
+            b.weights.push_back(T(1) / (d2[c] + floor));
+            sum += b.weights.back();
+        }
+        for (auto& w : b.weights) w /= sum;
+        return b;
+    }
+
+    /// The learned pose for a target: sum over the blend of weight x
+    /// (centre + J+ (target - centre's effectors)); a cluster without J+
+    /// gives its centre.
+    ik_vector<T> predict(const ik_vector<T>& target, const blend& b) const {
+        ik_vector<T> q = ik_vector<T>::Zero(dofs_);
+        for (std::size_t i = 0; i < b.clusters.size(); ++i) {
+            const auto c = b.clusters[i];
+            ik_vector<T> qc = centres_.col(c);
+            const auto& inv = inverses_[static_cast<std::size_t>(c)];
+            if (inv.size()) qc += inv * (target - centre_effectors_.col(c));
+            q += b.weights[i] * qc;
+        }
+        return q;
+    }
+
+    /// The blend's J+ (weights over the clusters that have one, renormalised);
+    /// empty when none has.
+    ik_matrix<T> blended_inverse(const blend& b) const {
+        ik_matrix<T> out;
+        T sum = T(0);
+        for (std::size_t i = 0; i < b.clusters.size(); ++i) {
+            const auto& inv = inverses_[static_cast<std::size_t>(b.clusters[i])];
+            if (!inv.size()) continue;
+            if (!out.size()) out = ik_matrix<T>::Zero(inv.rows(), inv.cols());
+            out += b.weights[i] * inv;
+            sum += b.weights[i];
+        }
+        if (sum > T(0)) out /= sum;
+        return out;
+    }
+
     /// Effector positions (root frame, stacked) of pose q.
     ik_vector<T> effectors_of(const kinematic_tree<T>& tree, const std::vector<std::size_t>& joints,
                               const ik_vector<T>& q) const {
-        ik_state<T> s;
-        tree.forward_unchecked(q, s);
-        ik_vector<T> g(3 * static_cast<Eigen::Index>(joints.size()));
-        const auto root_inv = s.orientations[0].conjugate();
-        for (std::size_t i = 0; i < joints.size(); ++i)
-            g.template segment<3>(3 * static_cast<Eigen::Index>(i)) =
-                root_inv * (s.positions[joints[i]] + s.orientations[joints[i]] * effectors_[i].offset - s.positions[0]);
-        return g;
+        return root_frame_effectors(tree, joints, effectors_, q);
     }
 
     /// Skeleton indices of the effectors in tree; throws when one is missing
@@ -276,22 +349,39 @@ private:
 template <class T>
 struct learned_solve_params {
     ik_params<T> ik;
+    /// Clusters blended, chosen by the goal: the `blend` whose reference
+    /// effectors are nearest the targets, weighted by inverse squared
+    /// distance (1: the nearest alone, as in the paper).
+    int blend = 4;
     int learned_steps = 20;  ///< at most, stopped when a step stops helping
     typename damped_least_squares<T>::params polish{};
-    /// Keep the polish near the reference pose it started from (null space).
+    /// Keep the polish near the learned pose (null space toward it).
     T reference_gain = T(0.1);
 };
 
-/// Solves position goals on the model's effectors (one per effector, same
-/// joints and offsets, in order). Throws anima::invalid_argument otherwise.
+/// What solve_ik_learned returns: the shared result plus the clusters used.
 template <class T>
-ik_result<T> solve_ik_learned(const kinematic_tree<T>& tree, const learned_ik_model<T>& model,
-                              std::vector<ik_goal<T>> goals, const learned_solve_params<T>& prm = {}) {
-    const std::string who = "anima::solve_ik_learned";
+struct learned_ik_result : ik_result<T> {
+    Eigen::Index cluster = 0;                ///< nearest the goal (the main one)
+    std::vector<Eigen::Index> blended;       ///< every cluster blended, nearest first
+    std::vector<T> weights;                  ///< their weights (sum 1)
+    int learned_steps = 0;                   ///< learned steps taken before the polish
+};
+
+namespace detail {
+
+template <class T>
+void check_learned_goals(const kinematic_tree<T>& tree, const learned_ik_model<T>& model,
+                         std::vector<ik_goal<T>>& goals, const learned_solve_params<T>& prm, const std::string& who) {
     learned_ik_model<T>::check_tree(tree, who);
     const auto joints = model.resolve(tree, who);
     check_goals(tree, goals, who);
-    detail::check_ik_params(prm.ik, tree.dofs(), who.c_str());
+    check_ik_params(prm.ik, tree.dofs(), who.c_str());
+    if (prm.blend < 1 || prm.learned_steps < 0 || !(prm.reference_gain >= T(0)))
+        throw invalid_argument(who + ": blend " + std::to_string(prm.blend) + ", learned_steps " +
+                               std::to_string(prm.learned_steps) + ", reference_gain " +
+                               std::to_string(static_cast<double>(prm.reference_gain)) +
+                               ": blend must be >= 1, the others >= 0");
     if (goals.size() != joints.size())
         throw invalid_argument(who + ": " + std::to_string(goals.size()) + " goals for a model of " +
                                std::to_string(joints.size()) + " effectors");
@@ -300,6 +390,23 @@ ik_result<T> solve_ik_learned(const kinematic_tree<T>& tree, const learned_ik_mo
             goals[i].offset != model.effectors()[i].offset)
             throw invalid_argument(who + ": goal " + std::to_string(i) + " is not a position goal on effector '" +
                                    model.effectors()[i].joint + "' with the model's offset");
+}
+
+}  // namespace detail
+
+/// Solves position goals on the model's effectors (one per effector, same
+/// joints and offsets, in order). Throws anima::invalid_argument otherwise.
+/// The start comes from the goal (the model's prediction), not from a pose:
+/// the learned pose is blended from the clusters nearest the targets, each
+/// cluster's centre moved by its J+ toward the targets; learned steps with
+/// the blended J+ refine it while they help; damped least squares, pulled
+/// toward the learned pose in the null space, polishes.
+template <class T>
+learned_ik_result<T> solve_ik_learned(const kinematic_tree<T>& tree, const learned_ik_model<T>& model,
+                                      std::vector<ik_goal<T>> goals, const learned_solve_params<T>& prm = {}) {
+    const std::string who = "anima::solve_ik_learned";
+    detail::check_learned_goals(tree, model, goals, prm, who);
+    const auto joints = model.resolve(tree, who);
 
     // Targets in the root's frame (the root is fixed: any q gives it).
     ik_state<T> s;
@@ -309,20 +416,18 @@ ik_result<T> solve_ik_learned(const kinematic_tree<T>& tree, const learned_ik_mo
     for (std::size_t i = 0; i < goals.size(); ++i)
         target.template segment<3>(3 * static_cast<Eigen::Index>(i)) = root_inv * (goals[i].position - s.positions[0]);
 
-    Eigen::Index start = 0;
-    (model.centre_effectors().colwise() - target).colwise().squaredNorm().minCoeff(&start);
-    ik_vector<T> q = model.centres().col(start);
+    const auto blend = model.nearest_to_goal(target, prm.blend);
+    ik_vector<T> q = model.predict(target, blend);
     if (prm.ik.limits) q = tree.clamp(q);
-    const ik_vector<T> reference = q;
+    tree.wrap(q);
+    const ik_matrix<T> inv = model.blended_inverse(blend);
     T err = (model.effectors_of(tree, joints, q) - target).norm();
     int steps = 0;
-    for (; steps < prm.learned_steps; ++steps) {
-        const auto c = detail::nearest_column<T>(model.centres(), q);
-        const auto& inv = model.inverse(c);
-        if (!inv.size()) break;
+    for (; inv.size() && steps < prm.learned_steps; ++steps) {
         ik_vector<T> next = q + prm.ik.step_scale * inv * (target - model.effectors_of(tree, joints, q));
         if (prm.ik.limits) next = tree.clamp(next);
         if (!next.allFinite()) break;
+        tree.wrap(next);
         const T e = (model.effectors_of(tree, joints, next) - target).norm();
         if (!(e < err)) break;
         err = e;
@@ -331,10 +436,15 @@ ik_result<T> solve_ik_learned(const kinematic_tree<T>& tree, const learned_ik_mo
     ik_params<T> polish = prm.ik;
     if (prm.reference_gain > T(0)) {
         polish.null_space.gain = prm.reference_gain;
-        polish.null_space.reference = reference;
+        polish.null_space.reference = q;
     }
-    auto result = solve_ik(tree, std::move(goals), q, damped_least_squares<T>(prm.polish), polish);
+    learned_ik_result<T> result;
+    static_cast<ik_result<T>&>(result) = solve_ik(tree, std::move(goals), q, damped_least_squares<T>(prm.polish), polish);
     result.iterations += steps;
+    result.learned_steps = steps;
+    result.cluster = blend.clusters.front();
+    result.blended = blend.clusters;
+    result.weights = blend.weights;
     return result;
 }
 

@@ -24,6 +24,7 @@ template <class T>
 struct levenberg_marquardt_ik_params {
     ik_params<T> ik;                  ///< tolerances, iterations (per attempt), restarts, limits
     T initial_damping = T(1e-3);      ///< relative to the largest diagonal entry of J'J
+    int polish_iterations = 10;       ///< pseudo-inverse steps after an attempt that misses (0: none)
 };
 
 template <class T>
@@ -37,6 +38,8 @@ ik_result<T> solve_ik_levenberg_marquardt(const kinematic_tree<T>& tree, std::ve
     if (!(prm.initial_damping > T(0)))
         throw invalid_argument(std::string(who) + ": initial_damping must be positive, got " +
                                std::to_string(prm.initial_damping));
+    if (prm.polish_iterations < 0)
+        throw invalid_argument(std::string(who) + ": polish_iterations is " + std::to_string(prm.polish_iterations));
     const int n = tree.dofs();
     const detail::sine_limits<T> limits(tree, prm.ik.limits);
 
@@ -60,9 +63,8 @@ ik_result<T> solve_ik_levenberg_marquardt(const kinematic_tree<T>& tree, std::ve
     const T stop_value = detail::goal_stop_value(goals, prm.ik);
     lp.on_iteration = [&](int, T value) { return value > stop_value; };
 
-    return detail::solve_with_restarts(tree, goals, ik_vector<T>(q0), prm.ik, limits, [&](const ik_vector<T>& u0) {
-        return levenberg_marquardt<T>(residuals, u0, lp);
-    });
+    return detail::solve_with_restarts(tree, goals, ik_vector<T>(q0), prm.ik, limits, prm.polish_iterations,
+                                       [&](const ik_vector<T>& u0) { return levenberg_marquardt<T>(residuals, u0, lp); });
 }
 
 }  // namespace anima

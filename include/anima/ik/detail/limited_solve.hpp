@@ -66,11 +66,20 @@ T goal_stop_value(const std::vector<ik_goal<T>>& goals, const ik_params<T>& p) {
 }
 
 /// Runs `attempt(u0) -> optimize_result<T>` from q0, then from random poses
-/// while the goals are not met, and keeps the best pose.
+/// while the goals are not met, and keeps the best pose. An attempt that
+/// ends outside the tolerances is polished by up to `polish_iterations`
+/// pseudo-inverse steps with the limits inside the step: near a limit the
+/// sine reparametrisation flattens the objective (dq/du -> 0) and the
+/// optimiser crawls, where the Newton step with the DOF's column removed
+/// converges at once.
 template <class T, class Attempt>
 ik_result<T> solve_with_restarts(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
                                  const ik_vector<T>& q0, const ik_params<T>& params, const sine_limits<T>& limits,
-                                 Attempt&& attempt) {
+                                 int polish_iterations, Attempt&& attempt) {
+    ik_params<T> polish = params;
+    polish.max_iterations = polish_iterations;
+    polish.restarts = 0;
+    polish.null_space = {};
     random_source rng(params.seed);
     ik_result<T> best;
     best.q = params.limits ? tree.clamp(q0) : q0;
@@ -87,7 +96,17 @@ ik_result<T> solve_with_restarts(const kinematic_tree<T>& tree, const std::vecto
         if (params.limits) trial.q = tree.clamp(trial.q);
         tree.wrap(trial.q);
         evaluate_ik(tree, goals, trial);
-        const T score = summarise(trial.errors, params).score;
+        T score = summarise(trial.errors, params).score;
+        if (score > T(1) && polish_iterations > 0) {
+            const auto p = solve_ik(tree, goals, trial.q, pseudo_inverse<T>{}, polish);
+            best.iterations += p.iterations;
+            const T polished = summarise(p.errors, params).score;
+            if (polished < score) {
+                score = polished;
+                trial.q = p.q;
+                trial.errors = p.errors;
+            }
+        }
         stalled = res.status != optimize_status::max_iterations && res.status != optimize_status::stopped;
         if (score < best_score) {
             best_score = score;
