@@ -121,9 +121,19 @@ CLI::Validator integer_in(long long lo, long long hi) {
             std::size_t k = 0;
             bool negative = false;
             if (k < value.size() && (value[k] == '+' || value[k] == '-')) negative = value[k++] == '-';
-            if (k == value.size() || value.find_first_not_of("0123456789", k) != std::string::npos)
+            if (k == value.size() || value.find_first_not_of("0123456789", k) != std::string::npos) {
+                // CLI11 cannot convert "1e8" to an integer: say how to write it.
+                char* end = nullptr;
+                const double d = std::strtod(value.c_str(), &end);
+                if (!value.empty() && end == value.c_str() + value.size() && std::isfinite(d) && d == std::floor(d) &&
+                    std::abs(d) < 9e18 && !std::isspace(static_cast<unsigned char>(value[0])))
+                    return "'" + value + "' is not an integer: write it in digits (" +
+                           std::to_string(static_cast<long long>(d)) + ")";
                 return "'" + anima::detail::escape_for_message(value, 60) + "' is not an integer";
-            while (k + 1 < value.size() && value[k] == '0') ++k;  // "010" is ten, not octal eight
+            }
+            // CLI11 reads "010" as octal eight: refuse rather than guess.
+            if (value.size() - k > 1 && value[k] == '0')
+                return "'" + value + "': write it without leading zeros";
             const std::string digits = value.substr(k);
             const auto outside = [&] {
                 const std::string range = hi != LLONG_MAX ? "is outside " + bound_text(lo) + ".." + bound_text(hi)
@@ -141,11 +151,6 @@ CLI::Validator integer_in(long long lo, long long hi) {
                                 : magnitude == most_negative ? LLONG_MIN
                                                              : -static_cast<long long>(magnitude);
             if (v < lo || v > hi) return outside();
-            if (negative && v != 0) {
-                value = std::to_string(v);
-                return {};
-            }
-            value = digits;
             return {};
         },
         hi == LLONG_MAX ? "INT >= " + bound_text(lo) : "INT in [" + bound_text(lo) + " - " + bound_text(hi) + "]");

@@ -93,8 +93,8 @@ constexpr unsigned long long max_frames = 100000000;
 /// that the message names the option and says what is wrong: "-1" for a
 /// count is not wrapped to 2^64 - 1, "abc" and "1.5" are "not an integer",
 /// bounds print in short form ("1e+06", not 309 digits) and say whether they
-/// are included. An accepted integer is rewritten in plain decimal (CLI11
-/// would read "010" as octal).
+/// are included. Integers are refused in exponent form ("1e8", which CLI11
+/// cannot convert) and with leading zeros (which CLI11 reads as octal).
 CLI::Validator integer_in(long long lo, long long hi);
 /// A non-negative integer up to `hi` (frames, counts, seeds).
 CLI::Validator count_up_to(unsigned long long hi);
