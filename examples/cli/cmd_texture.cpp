@@ -186,7 +186,7 @@ void run_texture(const texture_options& o) {
     }
     const clip_t c = first ? whole.slice(first, whole.frames()) : whole;
     // The texture, its DOF matrix, the Poisson solve over it and its BVH text.
-    check_request_memory(static_cast<double>(o.frames), 2 * bytes_per_frame(c.skeleton()),
+    check_request_memory(static_cast<double>(o.frames), bytes_per_frame(c.skeleton()),
                          "--frames " + std::to_string(o.frames) + " of " + std::to_string(c.skeleton().channel_count()) +
                              " channels",
                          "--frames");

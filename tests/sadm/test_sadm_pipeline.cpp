@@ -276,13 +276,13 @@ TEST_CASE_TEMPLATE(".pts: a point count beyond the file's size and landmarks out
         CHECK(contains(e.message(), "999999"));
     }
     anima::landmark_set<T> s(3, 2);
-    s << T(0), T(0), T(79), T(83), T(40), T(41.5);
+    s << T(0), T(0), T(80), T(84), T(40), T(41.5);  // the corners of the image's area are on it
     CHECK_NOTHROW(anima::check_landmarks_inside(s, 80, 84, "f.pts"));
     s(1, 0) = T(300000);
     s(1, 1) = T(-300000);
     const std::string m = invalid_argument_message([&] { anima::check_landmarks_inside(s, 80, 84, "f.pts"); });
     CHECK(contains(m, "f.pts: landmark 1 (300000, -300000) is outside the 80 x 84 image"));
-    s(1, 0) = T(80);  // one past the last pixel centre
+    s(1, 0) = T(80.5);  // beyond the right edge
     s(1, 1) = T(3);
     CHECK(contains(invalid_argument_message([&] { anima::check_landmarks_inside(s, 80, 84, "f.pts"); }), "landmark 1"));
 }

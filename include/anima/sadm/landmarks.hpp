@@ -58,14 +58,14 @@ void check_finite_landmarks(const landmark_set<T>& s, const std::string& who, co
 }
 
 /// Throws anima::invalid_argument naming `who` and the point unless every
-/// landmark lies inside a width x height image (0 <= x <= width - 1,
-/// 0 <= y <= height - 1, pixel centres at integers).
+/// landmark lies on a width x height image: 0 <= x <= width, 0 <= y <= height
+/// (the image's area, edges included; a landmark may sit on a border pixel).
 template <class T>
 void check_landmarks_inside(const landmark_set<T>& s, Eigen::Index width, Eigen::Index height, const std::string& who) {
     check_finite_landmarks(s, who);
     for (Eigen::Index k = 0; k < s.rows(); ++k) {
         const double x = static_cast<double>(s(k, 0)), y = static_cast<double>(s(k, 1));
-        if (!(x >= 0 && y >= 0 && x <= static_cast<double>(width - 1) && y <= static_cast<double>(height - 1))) {
+        if (!(x >= 0 && y >= 0 && x <= static_cast<double>(width) && y <= static_cast<double>(height))) {
             std::ostringstream m;
             m << who << ": landmark " << k << " (" << x << ", " << y << ") is outside the " << width << " x " << height
               << " image";
