@@ -25,6 +25,7 @@ struct convert_options {
 };
 
 void run_convert(const convert_options& o) {
+    check_outputs({{"OUT", &o.output}});
     const std::string input_text = read_text_file(o.input);
     const document_t doc = anima::parse_bvh_document<double>(input_text, o.input);
     const anima::up_axis_guess guess = anima::guess_up_axis(doc.skeleton);
@@ -141,7 +142,7 @@ void register_convert(CLI::App& app) {
                                          "Decimals written for offsets and channel values (default: as many as the "
                                          "input has when its values are copied, 6 when they are re-encoded)")
                              ->type_name("N")
-                             ->check(CLI::Range(0, 17));
+                             ->check(integer_in(0, 17));
     opts->euler_opt = sub->add_option("--euler", opts->euler,
                                       "How rotations become angles when the clip is re-encoded: continuous (no "
                                       "360 degree jumps) or principal (each frame on its own); implies re-encoding")

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -363,6 +364,7 @@ void write_plot(const std::string& path, const std::vector<double>& before, cons
 }
 
 void run_flight(const flight_options& o) {
+    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}});
     if (o.keys_path.empty() == o.example.empty())
         throw CLI::ValidationError("flight", "give either KEYS.json or --example somersault");
     auto in = o.example.empty() ? load_keys(o.keys_path, o) : somersault_input(o);
@@ -384,6 +386,12 @@ void run_flight(const flight_options& o) {
         std::cerr << "anima: flight: model (" << o.model << "), " << problem.key_count() << " keys, "
                   << (o.model == 1 ? problem.full_size() : problem.timing_size()) << " parameters\n";
     const auto r = anima::optimize_flight(problem, params);
+    if (!std::isfinite(r.objective_initial) || !std::isfinite(r.objective_final))
+        throw failure("the objective is not finite (" + format_number(r.objective_initial) + " -> " +
+                      format_number(r.objective_final) + "): check the key times and root positions of " + in.name);
+    // The drift is a diagnostic: where it is not defined the run goes on and says so.
+    const auto drift_json = [](const std::optional<double>& d) { return d ? json(*d) : json(nullptr); };
+    const auto drift_text = [](const std::optional<double>& d) { return d ? format_number(*d, 3) : std::string("not defined"); };
 
     if (!o.output.empty()) {
         const auto c = anima::flight_clip(problem, r.optimized, in.skeleton, in.metres_per_unit, 1.0 / 60.0);
@@ -401,8 +409,8 @@ void run_flight(const flight_options& o) {
         out["objective_final"] = r.objective_final;
         out["key_times_initial"] = r.initial.times;
         out["key_times_final"] = r.optimized.times;
-        out["momentum_drift_initial"] = r.momentum_drift_initial;
-        out["momentum_drift_final"] = r.momentum_drift_final;
+        out["momentum_drift_initial"] = drift_json(r.momentum_drift_initial);
+        out["momentum_drift_final"] = drift_json(r.momentum_drift_final);
         out["iterations"] = r.iterations;
         out["status"] = std::string(anima::to_string(r.status));
         out["seconds"] = r.seconds;
@@ -414,8 +422,10 @@ void run_flight(const flight_options& o) {
               << anima::to_string(r.status) << "), " << format_number(r.seconds, 3) << " s\n";
     std::cout << "  objective T^-1 int sum F^2: " << format_number(r.objective_initial) << " -> "
               << format_number(r.objective_final) << "\n";
-    std::cout << "  angular momentum drift about the centre of mass: " << format_number(r.momentum_drift_initial, 3)
-              << " -> " << format_number(r.momentum_drift_final, 3) << "\n";
+    std::cout << "  angular momentum drift about the centre of mass: " << drift_text(r.momentum_drift_initial)
+              << " -> " << drift_text(r.momentum_drift_final);
+    if (!r.momentum_drift_initial || !r.momentum_drift_final) std::cout << " (the mean angular momentum is zero)";
+    std::cout << "\n";
     std::cout << "  key  time before  time after\n";
     for (std::size_t k = 0; k < r.initial.times.size(); ++k)
         std::cout << "  " << k + 1 << (k + 1 < 10 ? "    " : "   ") << format_fixed(r.initial.times[k], 3) << "        "
@@ -438,13 +448,13 @@ void register_flight(CLI::App& app) {
         ->check(CLI::IsMember({1, 2}))
         ->capture_default_str();
     sub->add_option("--iterations", opts->iterations, "Most Levenberg-Marquardt iterations")
-        ->check(CLI::Range(0, 100000))
+        ->check(integer_in(0, 100000))
         ->capture_default_str();
     sub->add_option("--quadrature", opts->quadrature, "Gauss-Legendre points per key interval (1..5)")
-        ->check(CLI::Range(1, 5))
+        ->check(integer_in(1, 5))
         ->capture_default_str();
     sub->add_option("--body-mass", opts->body_mass, "Body mass in kg (when KEYS.json does not give one)")
-        ->check(CLI::Range(1.0, 1000.0))
+        ->check(number_in(1, 1000))
         ->capture_default_str();
     sub->add_option("-o,--output", opts->output, "Write the optimised motion (60 frames/s) to this BVH file")
         ->type_name("OUT.bvh");

@@ -14,9 +14,9 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <iostream>
 #include <memory>
@@ -55,41 +55,56 @@ double body_scale(const clip_t& c) {
 
 using frame_targets = std::map<std::size_t, std::vector<std::pair<std::string, vec3>>>;
 
+/// A frame number: digits only (no sign, no spaces), at most max_frames.
+bool parse_frame(const std::string& text, std::size_t& frame) {
+    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return false;
+    unsigned long long v = 0;
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (r.ec != std::errc() || v > max_frames) return false;
+    frame = static_cast<std::size_t>(v);
+    return true;
+}
+
 /// Reads "frame,effector,x,y,z" lines ('#' starts a comment, blank lines
-/// are skipped); errors name the file and line.
-frame_targets read_targets(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw failure("cannot open '" + path + "'");
+/// are skipped; LF, CRLF or CR line ends, an optional UTF-8 byte order
+/// mark); every error names the file and line, including a frame outside
+/// the clip and an effector the skeleton does not have.
+frame_targets read_targets(const std::string& path, const clip_t& c) {
+    const std::vector<std::string> lines = text_lines(read_text_file(path));
     frame_targets targets;
-    std::string line;
-    for (std::size_t number = 1; std::getline(in, line); ++number) {
+    for (std::size_t number = 1; number <= lines.size(); ++number) {
+        std::string line = lines[number - 1];
         const auto hash = line.find('#');
         if (hash != std::string::npos) line.erase(hash);
-        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        if (line.find_first_not_of(" \t") == std::string::npos) continue;
         std::vector<std::string> fields;
         std::stringstream cells(line);
         for (std::string cell; std::getline(cells, cell, ',');) {
-            const auto b = cell.find_first_not_of(" \t\r"), e = cell.find_last_not_of(" \t\r");
+            const auto b = cell.find_first_not_of(" \t"), e = cell.find_last_not_of(" \t");
             fields.push_back(b == std::string::npos ? "" : cell.substr(b, e - b + 1));
         }
         const auto where = path + ":" + std::to_string(number) + ": ";
         if (fields.size() != 5) throw failure(where + "expected frame,effector,x,y,z (5 fields), got " + std::to_string(fields.size()));
         std::size_t frame = 0;
+        if (!parse_frame(fields[0], frame))
+            throw failure(where + "'" + anima::detail::escape_for_message(fields[0], 60) + "' is not a frame number");
         vec3 p;
         try {
             std::size_t used = 0;
-            if (fields[0].empty() || fields[0][0] == '-') throw std::invalid_argument("negative");
-            frame = std::stoul(fields[0], &used);
-            if (used != fields[0].size()) throw std::invalid_argument("trailing");
             for (int k = 0; k < 3; ++k) {
                 p[k] = std::stod(fields[2 + k], &used);
                 if (used != fields[2 + k].size()) throw std::invalid_argument("trailing");
             }
         } catch (const std::exception&) {
-            throw failure(where + "expected a frame number and three numbers, got '" + line + "'");
+            throw failure(where + "expected three numbers x,y,z, got '" + anima::detail::escape_for_message(line, 200) + "'");
         }
         if (!p.allFinite()) throw failure(where + "the target is not finite");
         if (fields[1].empty()) throw failure(where + "the effector name is empty");
+        if (frame >= c.frames())
+            throw failure(where + "frame " + std::to_string(frame) + " is outside the clip (0.." +
+                          std::to_string(c.frames() - 1) + ")");
+        if (!c.skeleton().find(fields[1]))
+            throw failure(where + "no joint named '" + anima::detail::escape_for_message(fields[1], 200) + "' in the clip");
         targets[frame].emplace_back(fields[1], p);
     }
     if (targets.empty()) throw failure("'" + path + "' holds no targets");
@@ -144,6 +159,7 @@ anima::ik_result<double> run_solver(const ik_options& o, const solver_setup& s,
 }
 
 void run_ik(const ik_options& o) {
+    check_outputs({{"--output", &o.output}, {"--save-model", &o.model_out}});
     const auto start = std::chrono::steady_clock::now();
     clip_t c = load_clip(o.input);
     const auto& sk = c.skeleton();
@@ -164,21 +180,20 @@ void run_ik(const ik_options& o) {
     // recorded position in offset mode, world positions otherwise).
     frame_targets per_frame;
     if (file_mode) {
-        per_frame = read_targets(o.targets_file);
-        if (per_frame.rbegin()->first >= c.frames())
-            throw failure("'" + o.targets_file + "' names frame " + std::to_string(per_frame.rbegin()->first) +
-                          ", outside 0.." + std::to_string(c.frames() - 1));
+        per_frame = read_targets(o.targets_file, c);
     } else if (offset_mode) {
         const auto dash = o.frames.find('-');
         std::size_t first = 0, last = 0;
-        try {
-            first = std::stoul(o.frames.substr(0, dash));
-            last = dash == std::string::npos ? first : std::stoul(o.frames.substr(dash + 1));
-        } catch (const std::exception&) {
-            throw CLI::ValidationError("--frames", "expected A-B, got '" + o.frames + "'");
-        }
-        if (first > last || last >= c.frames())
-            throw failure("--frames " + o.frames + " is not within 0.." + std::to_string(c.frames() - 1));
+        if (!parse_frame(o.frames.substr(0, dash), first) ||
+            !parse_frame(dash == std::string::npos ? o.frames : o.frames.substr(dash + 1), last))
+            throw CLI::ValidationError("--frames", "expected A-B (two frame numbers, A <= B), got '" +
+                                                       anima::detail::escape_for_message(o.frames, 60) + "'");
+        if (first > last)
+            throw CLI::ValidationError("--frames", o.frames + " is reversed: the first frame comes after the last (use " +
+                                                       std::to_string(last) + "-" + std::to_string(first) + ")");
+        if (last >= c.frames())
+            throw failure("--frames " + o.frames + " is not within 0.." + std::to_string(c.frames() - 1) + " of '" +
+                          o.input + "'");
         const vec3 by = parse_vec3(o.by, "--by");
         for (std::size_t f = first; f <= last; ++f) per_frame[f].emplace_back(o.offset, by);
     } else {
@@ -227,6 +242,12 @@ void run_ik(const ik_options& o) {
     const std::size_t first = per_frame.begin()->first, last = per_frame.rbegin()->first;
     const clip_t original = c;
     json effectors = json::array();
+    // Per effector: the frames where it missed its target, and the worst miss.
+    struct miss {
+        std::size_t frames = 0, worst_frame = 0;
+        double worst = 0;
+    };
+    std::map<std::string, miss> missed;
     int iterations = 0, converged_frames = 0;
     double worst = 0;
     anima::ik_vector<double> previous;
@@ -257,6 +278,12 @@ void run_ik(const ik_options& o) {
         iterations += r.iterations;
         converged_frames += r.converged();
         worst = std::max(worst, r.max_position_error);
+        for (std::size_t i = 0; i < goals.size(); ++i)
+            if (r.errors[i].position > s.params.tolerance) {
+                miss& m = missed[frame_wanted[i].first];
+                ++m.frames;
+                if (r.errors[i].position > m.worst) m.worst = r.errors[i].position, m.worst_frame = f;
+            }
         if (!smooth || f == last)
             for (std::size_t i = 0; i < goals.size(); ++i) {
                 json e = {{"name", frame_wanted[i].first},
@@ -280,6 +307,14 @@ void run_ik(const ik_options& o) {
     };
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(c));
+    for (const auto& [name, m] : missed) {
+        std::cerr << "anima: warning: effector '" << name << "' did not reach its target";
+        if (per_frame.size() > 1) std::cerr << " in " << m.frames << " of " << per_frame.size() << " frames";
+        std::cerr << ": it is " << format_number(m.worst, 3) << " units away";
+        if (per_frame.size() > 1) std::cerr << " at frame " << m.worst_frame;
+        else std::cerr << " (frame " << m.worst_frame << ")";
+        std::cerr << ", the tolerance is " << format_number(s.params.tolerance, 3) << '\n';
+    }
     json out = {{"input", o.input},
                 {"solver", o.solver},
                 {"frames", json::array({first, last})},
@@ -310,7 +345,7 @@ void register_ik(CLI::App& app) {
     auto o = std::make_shared<ik_options>();
     auto* sub = app.add_subcommand("ik", "Inverse kinematics: move joints to targets in one frame, by an offset over a range, or per frame from a CSV file");
     sub->add_option("input", o->input, "Input BVH file")->required()->check(CLI::ExistingFile);
-    sub->add_option("--frame", o->frame, "Frame to solve (target mode)");
+    sub->add_option("--frame", o->frame, "Frame to solve (target mode)")->check(count_up_to(max_frames));
     sub->add_option("--effector", o->effectors, "Joint to move (repeat, one per --target)");
     sub->add_option("--target", o->targets, "World position X,Y,Z for the matching --effector");
     sub->add_option("--offset", o->offset, "Offset mode: the joint to move by --by over --frames");
@@ -323,10 +358,10 @@ void register_ik(CLI::App& app) {
     sub->add_option("--train", o->train, "Clips to learn the Jacobian inverse from (learned solver)");
     sub->add_option("--save-model", o->model_out, "Write the learned model to this file");
     sub->add_option("--tolerance", o->tolerance, "Position tolerance relative to the body scale")
-        ->check(CLI::PositiveNumber);
-    sub->add_option("--iterations", o->iterations, "Iteration cap per attempt")->check(CLI::NonNegativeNumber);
+        ->check(number_in(0, 1, true));
+    sub->add_option("--iterations", o->iterations, "Iteration cap per attempt")->check(integer_in(0, 100000));
     sub->add_option("--restarts", o->restarts, "Random restarts after a failed attempt (target mode)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(integer_in(0, 1000));
     sub->add_option("-o,--output", o->output, "Output BVH file");
     sub->add_flag("--json", o->json, "Print the result as JSON");
     sub->callback([o] { run_ik(*o); });

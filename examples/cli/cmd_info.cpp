@@ -83,9 +83,14 @@ void run_info(const info_options& o) {
     }
 
     std::cout << o.input << '\n';
+    // Indentation stops at max_indent levels (deeper joints say their depth),
+    // so the text of a deep hierarchy stays linear in its size.
+    constexpr std::size_t max_indent = 32;
     for (const auto& [j, depth] : depth_first(sk)) {
-        const std::string indent(2 * (depth + 1), ' ');
-        std::cout << indent << sk[j].name;
+        const std::string indent(2 * (std::min(depth, max_indent) + 1), ' ');
+        std::cout << indent;
+        if (depth > max_indent) std::cout << "(depth " << depth << ") ";
+        std::cout << sk[j].name;
         if (!sk[j].channels.empty()) std::cout << "  [" << channel_list(sk[j].channels) << ']';
         std::cout << '\n';
         if (sk[j].end_site) std::cout << indent << "  End Site\n";

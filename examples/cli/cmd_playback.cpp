@@ -40,8 +40,13 @@ std::string some_positions(const std::vector<std::size_t>& positions, std::size_
 }
 
 void run_playback(const playback_options& o) {
+    check_outputs({{"--output", &o.output}});
     const anima::symmetry_params<double> params = make_symmetry_params(o.symmetry);
     const motion_range m = load_motion_range(o.input, o.range);
+    check_request_memory(static_cast<double>(o.frames), bytes_per_frame(m.clip.skeleton()),
+                         "--frames " + std::to_string(o.frames) + " of " + std::to_string(m.clip.skeleton().channel_count()) +
+                             " channels",
+                         "--frames");
     const std::size_t n = m.clip.frames();
     const std::size_t last = m.first + n - 1;
     const double dt = m.clip.frame_time();
@@ -153,9 +158,11 @@ void register_playback(CLI::App& app) {
     sub->add_option("--frames", opts->frames, "Length of the new motion in frames")
         ->required()
         ->type_name("N")
-        ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}));
+        ->check(integer_in(1, max_frames));
     sub->add_option("-o,--output", opts->output, "Write the new motion to this BVH file")->type_name("OUT.bvh");
-    sub->add_option("--seed", opts->seed, "Seed of the random turns (same seed, same motion)")->capture_default_str();
+    sub->add_option("--seed", opts->seed, "Seed of the random turns (same seed, same motion)")
+        ->check(count_up_to(~0ULL))
+        ->capture_default_str();
     sub->add_option("--root", opts->root,
                     "The root's ground path: recorded (the source frame's), in_place, accumulated (the source's "
                     "steps added up) or keep_direction (reversed steps negated)")
@@ -164,16 +171,17 @@ void register_playback(CLI::App& app) {
     opts->start_opt = sub->add_option("--start", opts->start,
                                       "Frame to start at (default: the first candidate, or the first frame with "
                                       "--video-texture)")
-                          ->type_name("FRAME");
+                          ->type_name("FRAME")
+                          ->check(count_up_to(max_frames));
     auto* fixed = sub->add_flag("--fixed", opts->fixed, "Keep every candidate's Eq 5 probability (no adaptation)");
     auto* gain = sub->add_option("--gain", opts->gain, "k of Eq 6: a passed candidate's probability is multiplied by K")
                      ->type_name("K")
-                     ->check(CLI::Range(1.0, 1000.0))
+                     ->check(number_in(1, 1000))
                      ->capture_default_str()
                      ->excludes(fixed);
     auto* penalty = sub->add_option("--penalty", opts->penalty, "Subtracted from a candidate's probability when it turns")
                         ->type_name("P")
-                        ->check(CLI::Range(0.0, 1.0))
+                        ->check(number_in(0, 1))
                         ->capture_default_str()
                         ->excludes(fixed);
     std::vector<CLI::Option*> symmetric = add_symmetry_options(*sub, opts->symmetry);

@@ -57,13 +57,11 @@ grid_size parse_grid(const std::string& text) {
 
 // H lines of W numbers separated by commas (or spaces); blank lines are skipped.
 Eigen::MatrixXd read_csv(const std::string& path, const grid_size& g) {
-    const std::string text = read_text_file(path);
+    const std::vector<std::string> lines = text_lines(read_text_file(path));
     Eigen::MatrixXd f(g.height, g.width);
-    std::istringstream in(text);
-    std::string line;
     Eigen::Index row = 0;
     std::size_t line_number = 0;
-    while (std::getline(in, line)) {
+    for (std::string line : lines) {
         ++line_number;
         for (char& c : line)
             if (c == ',' || c == ';' || c == '\t' || c == '\r') c = ' ';
@@ -112,7 +110,15 @@ double since(std::chrono::steady_clock::time_point t) {
 }
 
 void run_poisson(const poisson_options& o) {
+    check_outputs({{"--out", &o.output}});
     const grid_size size = parse_grid(o.grid);
+    // u, f, the residual and the coarser levels (multigrid, dst), or a sparse
+    // matrix and its incomplete factor (cg-ic): about 12 or 40 doubles per unknown.
+    check_request_memory(static_cast<double>(size.width) * static_cast<double>(size.height),
+                         (o.solver == "cg" || o.solver == "cg-ic" ? 40.0 : 12.0) * 8,
+                         "a " + std::to_string(size.width) + " x " + std::to_string(size.height) + " grid with " +
+                             o.solver,
+                         "--grid");
     const anima::boundary sides = o.neumann ? anima::boundary::neumann : anima::boundary::dirichlet;
     Eigen::MatrixXd f;
     if (o.rhs == "random") {
@@ -235,25 +241,27 @@ void register_poisson(CLI::App& app) {
     sub->add_option("--rhs", opts->rhs, "Right-hand side f: 'random' (uniform in [-1, 1]) or a CSV file of H rows of W numbers")
         ->type_name("random|FILE.csv")
         ->capture_default_str();
-    sub->add_option("--seed", opts->seed, "Seed of the random right-hand side")->capture_default_str();
+    sub->add_option("--seed", opts->seed, "Seed of the random right-hand side")
+        ->check(count_up_to(~0ULL))
+        ->capture_default_str();
     sub->add_option("--solver", opts->solver, "multigrid, dst (sine/cosine transform), cg or cg-ic (Eigen's CG, with IncompleteCholesky)")
         ->check(CLI::IsMember({"multigrid", "dst", "cg", "cg-ic"}))
         ->capture_default_str();
     sub->add_flag("--neumann", opts->neumann, "Zero flux on every side instead of zero Dirichlet values");
     sub->add_option("--tolerance", opts->tolerance, "Stop at this relative residual ||b - Ax|| / ||b|| (multigrid, cg)")
-        ->check(CLI::PositiveNumber)
+        ->check(number_in(0, 1, true, true))
         ->capture_default_str();
     sub->add_option("--cycle", opts->cycle, "Multigrid cycle: v or w")
         ->check(CLI::IsMember({"v", "w"}))
         ->capture_default_str();
     sub->add_option("--pre", opts->pre, "Multigrid smoothing sweeps before the coarse correction")
-        ->check(CLI::NonNegativeNumber)
+        ->check(integer_in(0, 1000))
         ->capture_default_str();
     sub->add_option("--post", opts->post, "Multigrid smoothing sweeps after it")
-        ->check(CLI::NonNegativeNumber)
+        ->check(integer_in(0, 1000))
         ->capture_default_str();
     sub->add_option("--max-cycles", opts->max_cycles, "Most multigrid cycles")
-        ->check(CLI::PositiveNumber)
+        ->check(integer_in(1, 100000))
         ->capture_default_str();
     sub->add_option("--out", opts->output, "Write u as CSV, H rows of W numbers")->type_name("U.csv");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");

@@ -144,6 +144,7 @@ const char* colour(body_side s) {
 }
 
 void run_render(const render_options& o) {
+    check_outputs({{"OUT", &o.output}});
     const clip_t clip = load_clip(o.input);
     if (clip.empty()) throw failure("'" + o.input + "' has no frames to render");
     const skeleton_t& sk = clip.skeleton();
@@ -300,7 +301,7 @@ void register_render(CLI::App& app) {
                                "", "frame list"));
     auto* count = sub->add_option("--count", opts->count, "Number of evenly spaced frames to draw, first and last included")
                       ->type_name("N")
-                      ->check(CLI::Range(1, 1000))
+                      ->check(integer_in(1, 1000))
                       ->capture_default_str();
     opts->frames_opt->excludes(count);
     sub->add_option("--view", opts->view,
@@ -314,9 +315,9 @@ void register_render(CLI::App& app) {
                        ->check(signed_axis_validator());
     opts->width_opt = sub->add_option("--width", opts->width, "Width of the image (default: from the figure's proportions)")
                           ->type_name("PX")
-                          ->check(CLI::Range(50, 100000));
+                          ->check(integer_in(50, 100000));
     opts->height_opt = sub->add_option("--height", opts->height, "Height of the image (default: 360)")
                            ->type_name("PX")
-                           ->check(CLI::Range(120, 100000));
+                           ->check(integer_in(120, 100000));
     sub->callback([opts] { run_render(*opts); });
 }

@@ -49,12 +49,18 @@ std::string lower_extension(const std::string& path) {
 
 /// Grey levels 0-255 of a PGM/PPM (library) or JPEG/PNG (stb) file.
 grey load_grey(const std::string& path) {
+    if (std::filesystem::is_directory(path)) throw failure("'" + path + "' is a directory, not an image");
     const std::string ext = lower_extension(path);
     if (ext == ".pgm" || ext == ".ppm" || ext == ".pnm") return anima::read_grey_pnm<double>(path);
     if (ext != ".jpg" && ext != ".jpeg" && ext != ".png")
         throw failure("'" + path + "': unknown image type; use .pgm, .ppm, .jpg or .png");
 #ifdef ANIMA_HAVE_STB_IMAGE
     int w = 0, h = 0, channels = 0;
+    // The header's size is checked before the decoder allocates the pixels.
+    if (stbi_info(path.c_str(), &w, &h, &channels) &&
+        static_cast<long long>(w) * static_cast<long long>(h) > anima::max_raster_pixels)
+        throw failure("'" + path + "' is " + std::to_string(w) + " x " + std::to_string(h) + " pixels, more than the " +
+                      std::to_string(anima::max_raster_pixels) + " an image may have here");
     unsigned char* px = stbi_load(path.c_str(), &w, &h, &channels, 1);
     if (!px) throw failure("cannot read '" + path + "': " + stbi_failure_reason());
     grey g(h, w);
@@ -67,16 +73,35 @@ grey load_grey(const std::string& path) {
 #endif
 }
 
-/// Writes grey levels as PGM (library), PNG or JPEG (stb), by extension.
-void save_grey(const std::string& path, const grey& g, std::string_view what_for) {
+/// Throws failure unless an image can be written at `path` (.pgm, or .png
+/// with stb, in a folder that exists): called before any work.
+void check_grey_output(const std::string& path, std::string_view what_for) {
+    if (path.empty()) return;
+    check_output(path, what_for);
     const std::string ext = lower_extension(path);
-    if (ext == ".pgm") {
+    if (ext != ".pgm" && ext != ".png") throw failure(std::string(what_for) + ": '" + path + "': write .pgm or .png");
+    if (ext == ".png") require_png(what_for);
+}
+
+/// Writes grey levels as PGM (library) or PNG (stb), by extension.
+void save_grey(const std::string& path, const grey& g, std::string_view what_for) {
+    check_grey_output(path, what_for);
+    if (lower_extension(path) == ".pgm") {
         anima::write_pgm(path, g);
         return;
     }
-    if (ext != ".png") throw failure(std::string(what_for) + ": '" + path + "': write .pgm or .png");
     write_png(path, static_cast<int>(g.cols()), static_cast<int>(g.rows()), 1, anima::to_bytes(g, std::string(what_for)),
               what_for);
+}
+
+/// Throws failure naming the landmark file and the point unless every
+/// landmark lies inside the image.
+void check_inside(const landmarks_t& lm, const grey& image, const std::string& pts, const std::string& image_path) {
+    try {
+        anima::check_landmarks_inside(lm, image.cols(), image.rows(), "'" + pts + "'");
+    } catch (const anima::invalid_argument& e) {
+        throw failure(std::string(e.what()) + " '" + image_path + "'");
+    }
 }
 
 struct frame_set {
@@ -121,6 +146,7 @@ frame_set load_frames(const std::string& dir, const std::string& hold_out, bool 
     if (names.empty()) throw failure("'" + points.string() + "' holds no .pts file");
     const std::vector<bool> held = held_out(hold_out, names.size());
     frame_set out;
+    std::string first_pts;
     for (std::size_t k = 0; k < names.size(); ++k) {
         if (held[k] != test && !hold_out.empty()) continue;
         std::string image;
@@ -130,9 +156,16 @@ frame_set load_frames(const std::string& dir, const std::string& hold_out, bool 
                 break;
             }
         if (image.empty()) throw failure("no image for '" + names[k] + ".pts' in '" + images.string() + "'");
+        const std::string pts = (points / (names[k] + ".pts")).string();
         out.names.push_back(names[k]);
         out.images.push_back(load_grey(image));
-        out.landmarks.push_back(anima::read_pts<double>((points / (names[k] + ".pts")).string()));
+        out.landmarks.push_back(anima::read_pts<double>(pts));
+        if (out.landmarks.back().rows() != out.landmarks.front().rows())
+            throw failure("'" + pts + "' has " + std::to_string(out.landmarks.back().rows()) + " points, '" +
+                          first_pts + "' has " + std::to_string(out.landmarks.front().rows()) +
+                          ": every frame needs the same landmarks");
+        if (first_pts.empty()) first_pts = pts;
+        check_inside(out.landmarks.back(), out.images.back(), pts, image);
         if (progress && (out.images.size() % 50 == 0)) std::cerr << "anima: read " << out.images.size() << " frames\n";
     }
     if (out.images.size() < 2) throw failure("'" + dir + "': fewer than 2 frames selected");
@@ -157,6 +190,7 @@ struct train_options {
 };
 
 void run_train(const train_options& o) {
+    check_outputs({{"--out", &o.output}});
     const auto start = std::chrono::steady_clock::now();
     const frame_set frames = load_frames(o.dir, o.hold_out, false, o.progress);
     anima::sadm_options<double> options;
@@ -168,10 +202,9 @@ void run_train(const train_options& o) {
             if (done == total || done % 50 == 0) std::cerr << "anima: " << stage << " " << done << "/" << total << "\n";
         };
     const auto model = anima::sadm_model<double>::train(frames.images, frames.landmarks, options);
-    std::ofstream out(o.output, std::ios::binary);
-    model.save(out);
-    out.close();
-    if (!out) throw failure("cannot write '" + o.output + "'");
+    std::ostringstream text;
+    model.save(text);
+    write_text_file(o.output, text.str());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (o.json) {
         json j;
@@ -242,6 +275,7 @@ void write_figure(const std::string& path, const anima::sadm_model<double>& mode
 }
 
 void run_eval(const eval_options& o) {
+    check_grey_output(o.figure, "--figure");
     const auto model = load_model(o.model);
     const frame_set frames = load_frames(o.dir, o.hold_out, true, o.progress);
     anima::sadm_evaluation_options<double> options;
@@ -286,13 +320,21 @@ struct synth_options {
 };
 
 void run_synth(const synth_options& o) {
+    check_grey_output(o.output, "--out");
     const auto model = load_model(o.model);
     const landmarks_t lm = anima::read_pts<double>(o.landmarks);
     grey out;
     if (!o.neutral.empty()) {
-        out = model.synthesize(lm, load_grey(o.neutral));
+        const grey neutral = load_grey(o.neutral);
+        check_inside(lm, neutral, o.landmarks, o.neutral);
+        out = model.synthesize(lm, neutral);
     } else {
         if (lm.minCoeff() < 0) throw failure("'" + o.landmarks + "' has negative coordinates: give --neutral FRAME");
+        const double extent = (lm.col(1).maxCoeff() + 2) * (lm.col(0).maxCoeff() + 2);
+        if (!(extent <= static_cast<double>(anima::max_raster_pixels)))
+            throw failure("'" + o.landmarks + "' reaches (" + format_number(lm.col(0).maxCoeff()) + ", " +
+                          format_number(lm.col(1).maxCoeff()) + "): the canvas would have more than " +
+                          std::to_string(anima::max_raster_pixels) + " pixels; give --neutral FRAME");
         const auto rows = static_cast<Eigen::Index>(std::ceil(lm.col(1).maxCoeff())) + 2;
         const auto cols = static_cast<Eigen::Index>(std::ceil(lm.col(0).maxCoeff())) + 2;
         out = anima::paste_face(grey(grey::Zero(rows, cols)), model.render(lm, rows, cols));
@@ -320,13 +362,13 @@ void register_sadm(CLI::App& app) {
         ->capture_default_str();
     train->add_option("--hold-out", t->hold_out, split_help)->type_name("every:N|last:N");
     train->add_option("--shape-variance", t->shape_variance, "Fraction of shape variance kept")
-        ->check(CLI::Range(1e-6, 1.0))
+        ->check(number_in(0, 1, true))
         ->capture_default_str();
     train->add_option("--grey-variance", t->grey_variance, "Fraction of grey-level variance kept")
-        ->check(CLI::Range(1e-6, 1.0))
+        ->check(number_in(0, 1, true))
         ->capture_default_str();
     train->add_option("--grey-components", t->grey_components, "Keep this many grey parameters instead (0: by variance)")
-        ->check(CLI::Range(0, 100000));
+        ->check(integer_in(0, 100000));
     train->add_flag("--progress", t->progress, "Report progress on stderr");
     train->add_flag("--json", t->json, "Print a JSON object instead of text");
     train->callback([t] { run_train(*t); });
@@ -336,8 +378,8 @@ void register_sadm(CLI::App& app) {
     eval->add_option("MODEL", e->model, "Model file from sadm train")->required()->type_name("MODEL");
     eval->add_option("DIR", e->dir, dir_help)->required()->type_name("DIR");
     eval->add_option("--noise", e->noise, "Gaussian noise (standard deviation, pixels) on the landmarks")
-        ->check(CLI::Range(0.0, 1000.0));
-    eval->add_option("--seed", e->seed, "Seed of the noise");
+        ->check(number_in(0, 1000));
+    eval->add_option("--seed", e->seed, "Seed of the noise")->check(count_up_to(~0ULL));
     eval->add_option("--hold-out", e->hold_out, split_help)->type_name("every:N|last:N");
     eval->add_option("--figure", e->figure,
                      "PNG/PGM: ground truth, synthesis and synthesis with noise (--noise, else 2 px) for 4 frames")

@@ -55,6 +55,7 @@ jump excess_jump(const Eigen::MatrixXd& m, std::size_t seam, const anima::dof_la
 }
 
 void run_smooth(const smooth_options& o) {
+    check_outputs({{"--output", &o.output}});
     const clip_t c = load_clip(o.input);
     for (std::size_t s : o.seams)
         if (s < 1 || s + 1 > c.frames())
@@ -146,6 +147,7 @@ void register_smooth(CLI::App& app) {
     sub->add_option("--seams", opts->seams, "Frames where a new piece starts (the jump is between F-1 and F)")
         ->required()
         ->delimiter(',')
+        ->check(count_up_to(max_frames))
         ->type_name("F1,F2,...");
     sub->add_option("-o,--output", opts->output, "Write the smoothed clip to this BVH file")->type_name("OUT.bvh");
     sub->add_option("--mode", opts->mode, "1d: each DOF along time; 2d: the frames x DOF matrix as an image (the paper)")
@@ -155,6 +157,7 @@ void register_smooth(CLI::App& app) {
         ->check(CLI::IsMember({"multigrid", "dst"}))
         ->capture_default_str();
     sub->add_option("--radius", opts->radius, "Also replace this many frame differences on each side of a seam")
+        ->check(count_up_to(max_frames))
         ->capture_default_str();
     sub->add_option("--dof-sides", opts->dof_sides,
                     "2d mode: beyond the first and last DOF, neumann (free) or dirichlet (the paper's zero padding)")

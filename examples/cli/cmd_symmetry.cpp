@@ -184,6 +184,7 @@ matrix_image write_distance_matrix(const std::string& path, const motion_range& 
 }
 
 void run_symmetry(const symmetry_cli_options& o) {
+    check_outputs({{"--plot", &o.plot}, {"--matrix", &o.matrix}});
     const anima::symmetry_params<double> params = make_symmetry_params(o.symmetry);
     if (!o.matrix.empty()) require_png("--matrix");
     const motion_range m = load_motion_range(o.input, o.range);
@@ -281,7 +282,7 @@ void register_symmetry(CLI::App& app) {
     sub->add_option("--matrix-size", opts->matrix_size,
                     "Width and height of the --matrix image in pixels (default: one per frame, at most 1024)")
         ->type_name("PX")
-        ->check(CLI::Range(1, 8192))
+        ->check(integer_in(1, 8192))
         ->needs(matrix);
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_symmetry(*opts); });

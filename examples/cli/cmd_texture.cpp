@@ -165,6 +165,7 @@ void write_plot(const std::string& path, const clip_t& input, const anima::motio
 }
 
 void run_texture(const texture_options& o) {
+    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}});
     if (!o.plot.empty()) require_png("--plot");
     const auto start = clock_type::now();
     const std::string text = read_text_file(o.input);
@@ -184,6 +185,11 @@ void run_texture(const texture_options& o) {
                       << "; the texture starts from frame " << first << " (--first 0 keeps them)\n";
     }
     const clip_t c = first ? whole.slice(first, whole.frames()) : whole;
+    // The texture, its DOF matrix, the Poisson solve over it and its BVH text.
+    check_request_memory(static_cast<double>(o.frames), bytes_per_frame(c.skeleton()),
+                         "--frames " + std::to_string(o.frames) + " of " + std::to_string(c.skeleton().channel_count()) +
+                             " channels",
+                         "--frames");
     const double read_seconds = seconds_since(start);
 
     anima::motion_texture_params<double> p;
@@ -355,18 +361,21 @@ void register_texture(CLI::App& app) {
     sub->add_option("--frames", opts->frames, "Length of the texture in frames")
         ->required()
         ->type_name("N")
-        ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}));
+        ->check(integer_in(1, max_frames));
     sub->add_option("-o,--output", opts->output, "Write the texture to this BVH file")->type_name("OUT.bvh");
     sub->add_option("--plot", opts->plot, "Draw input and texture as DOF x frame images with the seams (PNG)")
         ->type_name("OUT.png");
     sub->add_option("--texton", opts->texton_output, "Write the texton (one loop) to this BVH file")->type_name("OUT.bvh");
     opts->m_opt = sub->add_option("-m", opts->m, "Frames of M1 (the clip's first) and M2 (its last); default 100, or half a shorter clip")
                       ->type_name("M")
-                      ->check(CLI::Range(std::size_t{2}, std::size_t{100000000}));
+                      ->check(integer_in(2, max_frames));
     opts->overlap_opt = sub->add_option("--overlap", opts->overlap, "Frames where M2 and M1 overlap (2..M); default 50, or M / 2")
                             ->type_name("N")
-                            ->check(CLI::Range(std::size_t{2}, std::size_t{100000000}));
-    sub->add_option("--blend", opts->blend, "Frames of each fade (0: half the overlap)")->type_name("K")->capture_default_str();
+                            ->check(integer_in(2, max_frames));
+    sub->add_option("--blend", opts->blend, "Frames of each fade (0: half the overlap)")
+        ->type_name("K")
+        ->check(count_up_to(max_frames))
+        ->capture_default_str();
     sub->add_flag("--hard-cut", opts->hard_cut, "Switch at the seam without a fade");
     sub->add_option("--capacity", opts->capacity, "Seam capacity: normalized (Kwatra's M / grad), exponential or plain")
         ->check(CLI::IsMember({"normalized", "exponential", "plain"}))
@@ -376,7 +385,7 @@ void register_texture(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--neighbour-weight", opts->neighbour_weight, "Tie between neighbouring joints' seams (0: independent)")
         ->type_name("W")
-        ->check(CLI::Range(0.0, 1e6))
+        ->check(number_in(0, 1e6))
         ->capture_default_str();
     sub->add_option("--smoothing", opts->smoothing, "Poisson smoothing: 1d (per DOF), 2d (the DOF x frame image) or none")
         ->check(CLI::IsMember({"1d", "2d", "none"}))
@@ -393,13 +402,16 @@ void register_texture(CLI::App& app) {
                                     "Mix in symmetric playback: at turning candidates play backwards for a while");
     sub->add_option("--mix-probability", opts->mix_probability, "Chance of a symmetric passage at each candidate")
         ->type_name("P")
-        ->check(CLI::Range(0.0, 1.0))
+        ->check(number_in(0, 1))
         ->capture_default_str()
         ->needs(symmetric);
-    sub->add_option("--seed", opts->seed, "Seed of the symmetric passages (same seed, same motion)")->capture_default_str();
+    sub->add_option("--seed", opts->seed, "Seed of the symmetric passages (same seed, same motion)")
+        ->check(count_up_to(~0ULL))
+        ->capture_default_str();
     opts->first_opt = sub->add_option("--first", opts->first,
                                       "First frame to use (default: after a rest pose the clip starts with, if any)")
-                          ->type_name("FRAME");
+                          ->type_name("FRAME")
+                          ->check(count_up_to(max_frames));
     opts->up_opt = sub->add_option("--up", opts->up, "The clip's up axis, instead of the one guessed from the skeleton")
                        ->type_name("AXIS")
                        ->check(signed_axis_validator());

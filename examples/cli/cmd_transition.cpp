@@ -28,12 +28,20 @@ void check_frame(std::size_t frame, const clip_t& c, const std::string& path, co
 }
 
 void run_transition(const transition_options& o) {
+    check_outputs({{"--output", &o.output}});
     const clip_t a = load_clip(o.a);
     const clip_t b = load_clip(o.b);
     check_frame(o.at, a, o.a, "--at");
     check_frame(o.to, b, o.b, "--to");
     anima::check_same_hierarchy(a.skeleton(), b.skeleton());
     if (o.min_duration > o.max_duration) throw failure("--min-duration is larger than --max-duration");
+    // The in-between frames of the shortest transition allowed (the longest
+    // depends on the motion: the library clamps it to --max-duration).
+    if (o.method == "variable")
+        check_request_memory(o.min_duration / a.frame_time(), bytes_per_frame(a.skeleton()),
+                             "a transition of at least " + format_number(o.min_duration) + " s at " +
+                                 format_number(1 / a.frame_time()) + " frames per second",
+                             "--min-duration");
 
     json out = {{"a", o.a}, {"b", o.b}, {"at", o.at}, {"to", o.to}, {"method", o.method}};
     anima::joined_clip<double> joined;
@@ -116,8 +124,14 @@ void register_transition(CLI::App& app) {
         "transition", "Join two clips with a variable-timing hierarchical transition (or a baseline) at any frame");
     sub->add_option("A", opts->a, "BVH clip playing first")->required();
     sub->add_option("B", opts->b, "BVH clip to switch to (same joint hierarchy)")->required();
-    sub->add_option("--at", opts->at, "Frame of A at which the switch is triggered")->required()->type_name("FRAME");
-    sub->add_option("--to", opts->to, "Frame of B the transition arrives at")->type_name("FRAME")->capture_default_str();
+    sub->add_option("--at", opts->at, "Frame of A at which the switch is triggered")
+        ->required()
+        ->type_name("FRAME")
+        ->check(count_up_to(max_frames));
+    sub->add_option("--to", opts->to, "Frame of B the transition arrives at")
+        ->type_name("FRAME")
+        ->check(count_up_to(max_frames))
+        ->capture_default_str();
     sub->add_option("-o,--output", opts->output, "Write the joined clip to this BVH file")->type_name("OUT.bvh");
     sub->add_option("--method", opts->method,
                     "variable (the paper's method), cut, crossfade or inertialize")
@@ -127,16 +141,16 @@ void register_transition(CLI::App& app) {
         ->check(CLI::IsMember({"velocity", "acceleration"}))
         ->capture_default_str();
     sub->add_option("--min-duration", opts->min_duration, "Shortest transition, seconds")
-        ->check(CLI::NonNegativeNumber)
+        ->check(non_negative_number())
         ->capture_default_str();
     sub->add_option("--max-duration", opts->max_duration, "Longest transition, seconds")
-        ->check(CLI::NonNegativeNumber)
+        ->check(non_negative_number())
         ->capture_default_str();
     sub->add_option("--crossfade-time", opts->crossfade, "Length of the crossfade baseline, seconds")
-        ->check(CLI::NonNegativeNumber)
+        ->check(non_negative_number())
         ->capture_default_str();
     sub->add_option("--halflife", opts->halflife, "Half-life of the inertialization spring, seconds")
-        ->check(CLI::PositiveNumber)
+        ->check(positive_number())
         ->capture_default_str();
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_transition(*opts); });

@@ -1,6 +1,11 @@
 #include "common.hpp"
 
+#include <anima/core/file_io.hpp>
+
 #include <algorithm>
+#include <charconv>
+#include <climits>
+#include <limits>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -30,20 +35,23 @@ std::string read_text_file(const std::string& path) {
     const auto status = std::filesystem::status(path, ec);
     if (status.type() == std::filesystem::file_type::not_found) throw failure("'" + path + "' does not exist");
     if (status.type() == std::filesystem::file_type::directory) throw failure("'" + path + "' is a directory");
-    errno = 0;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        const int err = errno;
-        throw anima::io_error("cannot open '" + path + "' for reading" + (err ? std::string(": ") + std::strerror(err) : ""));
-    }
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw anima::io_error("error while reading '" + path + "'");
-    return text.str();
+    return anima::read_file(path);
 }
 
 document_t load_bvh_document(const std::string& path) {
     return anima::parse_bvh_document<double>(read_text_file(path), path);
+}
+
+std::vector<std::string> text_lines(std::string_view text) {
+    if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+    std::vector<std::string> lines;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        const std::size_t end = std::min(text.find_first_of("\r\n", pos), text.size());
+        lines.emplace_back(text.substr(pos, end - pos));
+        pos = end + (text.substr(end, 2) == "\r\n" ? 2 : 1);
+    }
+    return lines;
 }
 
 int bvh_value_decimals(std::string_view text) {
@@ -77,19 +85,132 @@ int bvh_value_decimals(std::string_view text) {
 clip_t load_clip(const std::string& path) { return anima::to_clip(load_bvh_document(path)); }
 
 void write_text_file(const std::string& path, std::string_view text) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw failure("cannot write '" + path + "': it is a directory");
-    errno = 0;
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) {
-        const int err = errno;
-        throw failure("cannot open '" + path + "' for writing" + (err ? std::string(": ") + std::strerror(err) : ""));
+    try {
+        anima::write_file_atomically(path, text);
+    } catch (const anima::io_error& e) {
+        throw failure(e.what());
     }
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) {
-        const int err = errno;
-        throw failure("error while writing '" + path + "'" + (err ? std::string(": ") + std::strerror(err) : ""));
+}
+
+void check_output(const std::string& path, std::string_view option) {
+    try {
+        anima::check_output_path(path, option);
+    } catch (const anima::io_error& e) {
+        throw failure(e.what());
+    }
+}
+
+void check_outputs(std::initializer_list<std::pair<std::string_view, const std::string*>> outputs) {
+    for (const auto& [option, path] : outputs)
+        if (!path->empty()) check_output(*path, option);
+}
+
+// ---------------------------------------------------------------------------
+// Option values
+// ---------------------------------------------------------------------------
+
+namespace {
+
+std::string bound_text(long long v) { return std::to_string(v); }
+
+}  // namespace
+
+CLI::Validator integer_in(long long lo, long long hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& value) -> std::string {
+            std::size_t k = 0;
+            bool negative = false;
+            if (k < value.size() && (value[k] == '+' || value[k] == '-')) negative = value[k++] == '-';
+            if (k == value.size() || value.find_first_not_of("0123456789", k) != std::string::npos) {
+                // CLI11 cannot convert "1e8" to an integer: say how to write it.
+                char* end = nullptr;
+                const double d = std::strtod(value.c_str(), &end);
+                if (!value.empty() && end == value.c_str() + value.size() && std::isfinite(d) && d == std::floor(d) &&
+                    std::abs(d) < 9e18 && !std::isspace(static_cast<unsigned char>(value[0])))
+                    return "'" + value + "' is not an integer: write it in digits (" +
+                           std::to_string(static_cast<long long>(d)) + ")";
+                return "'" + anima::detail::escape_for_message(value, 60) + "' is not an integer";
+            }
+            // CLI11 reads "010" as octal eight: refuse rather than guess.
+            if (value.size() - k > 1 && value[k] == '0')
+                return "'" + value + "': write it without leading zeros";
+            const std::string digits = value.substr(k);
+            const auto outside = [&] {
+                const std::string range = hi != LLONG_MAX ? "is outside " + bound_text(lo) + ".." + bound_text(hi)
+                                          : negative      ? "must be " + bound_text(lo) + " or more"
+                                                          : "is larger than " + bound_text(hi);
+                return value + " " + range + (negative && lo >= 0 ? " (it must not be negative)" : "");
+            };
+            unsigned long long magnitude = 0;
+            const auto r = std::from_chars(digits.data(), digits.data() + digits.size(), magnitude);
+            if (r.ec != std::errc()) return outside();
+            constexpr unsigned long long most_negative = static_cast<unsigned long long>(LLONG_MAX) + 1;
+            if (negative ? magnitude > most_negative : magnitude > static_cast<unsigned long long>(LLONG_MAX))
+                return outside();
+            const long long v = !negative ? static_cast<long long>(magnitude)
+                                : magnitude == most_negative ? LLONG_MIN
+                                                             : -static_cast<long long>(magnitude);
+            if (v < lo || v > hi) return outside();
+            return {};
+        },
+        hi == LLONG_MAX ? "INT >= " + bound_text(lo) : "INT in [" + bound_text(lo) + " - " + bound_text(hi) + "]");
+}
+
+CLI::Validator count_up_to(unsigned long long hi) {
+    const long long top = static_cast<long long>(std::min<unsigned long long>(hi, static_cast<unsigned long long>(LLONG_MAX)));
+    return integer_in(0, top);
+}
+
+CLI::Validator number_in(double lo, double hi, bool lo_open, bool hi_open) {
+    const auto range = [=] {
+        const bool lo_inf = std::isinf(lo), hi_inf = std::isinf(hi);
+        if (lo_inf && hi_inf) return std::string("finite");
+        if (hi_inf) return std::string(lo_open ? "greater than " : "at least ") + format_number(lo);
+        if (lo_inf) return std::string(hi_open ? "less than " : "at most ") + format_number(hi);
+        return std::string(lo_open ? "greater than " : "at least ") + format_number(lo) + " and " +
+               (hi_open ? "less than " : "at most ") + format_number(hi);
+    };
+    std::string description = "FLOAT ";
+    if (std::isinf(hi)) description += lo_open ? "> " + format_number(lo) : ">= " + format_number(lo);
+    else description += "in " + std::string(lo_open ? "(" : "[") + format_number(lo) + " - " + format_number(hi) + (hi_open ? ")" : "]");
+    return CLI::Validator(
+        [=](std::string& value) -> std::string {
+            const char* begin = value.c_str();
+            char* end = nullptr;
+            errno = 0;
+            const double v = std::strtod(begin, &end);
+            if (value.empty() || end != begin + value.size() || std::isspace(static_cast<unsigned char>(value[0])))
+                return "'" + anima::detail::escape_for_message(value, 60) + "' is not a number";
+            if (!std::isfinite(v)) return value + " is not finite";
+            const bool above = lo_open ? v > lo : v >= lo;
+            const bool below = hi_open ? v < hi : v <= hi;
+            if (!above || !below) return value + " must be " + range();
+            return {};
+        },
+        description);
+}
+
+CLI::Validator positive_number() {
+    return number_in(0, std::numeric_limits<double>::infinity(), true, false);
+}
+
+CLI::Validator non_negative_number() { return number_in(0, std::numeric_limits<double>::infinity()); }
+
+double bytes_per_frame(const skeleton_t& skeleton) {
+    const double joints = static_cast<double>(skeleton.size()), channels = static_cast<double>(skeleton.channel_count());
+    return joints * 7 * 8 * 3 + channels * (8 * 4 + 12);
+}
+
+void check_request_memory(double count, double bytes_each, const std::string& what, std::string_view option,
+                          double limit) {
+    const double bytes = count * bytes_each;
+    if (!(bytes <= limit)) {
+        const auto size = [](double b) {
+            return b >= 1024.0 * 1024 * 1024 ? format_number(b / (1024.0 * 1024 * 1024), 3) + " GiB"
+                                             : format_number(b / (1024.0 * 1024), 3) + " MiB";
+        };
+        throw failure(what + " needs about " + size(bytes) + " of memory, more than the " + size(limit) +
+                      " allowed: make " + std::string(option) + " smaller");
     }
 }
 
@@ -343,8 +464,11 @@ void write_png(const std::string& path, int width, int height, int channels, con
 void add_frame_range_options(CLI::App& sub, frame_range_options& o) {
     sub.add_option("--first", o.first, "First frame to use, e.g. to leave out a rest pose the clip starts with")
         ->type_name("FRAME")
+        ->check(count_up_to(max_frames))
         ->capture_default_str();
-    o.last_opt = sub.add_option("--last", o.last, "Last frame to use (default: the clip's last)")->type_name("FRAME");
+    o.last_opt = sub.add_option("--last", o.last, "Last frame to use (default: the clip's last)")
+                     ->type_name("FRAME")
+                     ->check(count_up_to(max_frames));
     o.up_opt = sub.add_option("--up", o.up, "The clip's up axis, instead of the one guessed from the skeleton")
                    ->type_name("AXIS")
                    ->check(signed_axis_validator());
@@ -463,21 +587,21 @@ std::vector<CLI::Option*> add_symmetry_options(CLI::App& sub, symmetry_options& 
                 ->capture_default_str(),
             sub.add_option("--window", o.window, "n of Eq 3: frames i-r and i+r are compared for r = 1..N")
                 ->type_name("N")
-                ->check(CLI::Range(1, 100000))
+                ->check(integer_in(1, 100000))
                 ->capture_default_str(),
             sub.add_option("--smoothness", o.smoothness, "s of Eq 3: the binomial weights peak at r = S, 0..(N+1)/2")
                 ->type_name("S")
-                ->check(CLI::NonNegativeNumber)
+                ->check(integer_in(0, 100000))
                 ->capture_default_str(),
             sub.add_option("--candidate-window", o.candidate_window,
                            "Eq 5: a candidate is the highest score within +-N frames (0: --window)")
                 ->type_name("N")
-                ->check(CLI::NonNegativeNumber)
+                ->check(integer_in(0, 100000))
                 ->capture_default_str(),
             sub.add_option("--min-pairs", o.min_pairs,
                            "Frames compared on fewer pairs (near the ends) are never candidates (0: --window)")
                 ->type_name("N")
-                ->check(CLI::NonNegativeNumber)
+                ->check(integer_in(0, 100000))
                 ->capture_default_str()};
 }
 

@@ -11,9 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace anima_cli {
@@ -44,9 +46,14 @@ document_t load_bvh_document(const std::string& path);
 /// Reads a BVH file into a clip (see load_bvh_document for the errors).
 clip_t load_clip(const std::string& path);
 
-/// The whole content of a file. Throws failure for a missing file or a
-/// directory and anima::io_error when it cannot be read.
+/// The whole content of a file (anima::read_file, up to 1 GiB). Throws
+/// failure for a missing file or a directory and anima::io_error when it
+/// cannot be read.
 std::string read_text_file(const std::string& path);
+
+/// The lines of a text file, without their line ends (LF, CRLF or a lone CR,
+/// as old Mac exporters write) and without a leading UTF-8 byte order mark.
+std::vector<std::string> text_lines(std::string_view text);
 
 /// The most decimals any OFFSET or channel value of BVH text is written with
 /// in plain notation ("-0.0198488": 7), at most 17: with that many,
@@ -56,12 +63,57 @@ std::string read_text_file(const std::string& path);
 /// shortest exact form).
 int bvh_value_decimals(std::string_view text);
 
-/// Writes text to a file, replacing it. Throws failure naming the file and
-/// the system's reason when it cannot be opened or written.
+/// Writes text to a file, replacing it atomically (anima::write_file_atomically:
+/// a temporary next to it, renamed into place when complete, so a failed
+/// write leaves an existing file as it was). Throws failure naming the file
+/// and the system's reason when it cannot be written.
 void write_text_file(const std::string& path, std::string_view text);
 
 /// The last component of a path ("walk.bvh" for "data/walk.bvh").
 std::string file_name(const std::string& path);
+
+/// Throws failure naming `option` unless a file can be written at `path`
+/// (anima::check_output_path: not a folder, its folder exists). Commands call
+/// it for every output path before any work or write, so that a bad path
+/// costs nothing and leaves every other output as it was.
+void check_output(const std::string& path, std::string_view option);
+
+/// check_output for each (option, path) pair whose path is not empty.
+void check_outputs(std::initializer_list<std::pair<std::string_view, const std::string*>> outputs);
+
+// ---------------------------------------------------------------------------
+// Option values
+// ---------------------------------------------------------------------------
+
+/// The largest frame number or frame count an option takes (10^8: more
+/// frames than any clip a BVH file under a gigabyte can hold).
+constexpr unsigned long long max_frames = 100000000;
+
+/// CLI11 validators that check an option's text before CLI11 converts it, so
+/// that the message names the option and says what is wrong: "-1" for a
+/// count is not wrapped to 2^64 - 1, "abc" and "1.5" are "not an integer",
+/// bounds print in short form ("1e+06", not 309 digits) and say whether they
+/// are included. Integers are refused in exponent form ("1e8", which CLI11
+/// cannot convert) and with leading zeros (which CLI11 reads as octal).
+CLI::Validator integer_in(long long lo, long long hi);
+/// A non-negative integer up to `hi` (frames, counts, seeds).
+CLI::Validator count_up_to(unsigned long long hi);
+/// A finite number in [lo, hi]; `lo_open` / `hi_open` exclude a bound.
+CLI::Validator number_in(double lo, double hi, bool lo_open = false, bool hi_open = false);
+/// A finite number > 0.
+CLI::Validator positive_number();
+/// A finite number >= 0.
+CLI::Validator non_negative_number();
+
+/// Bytes a request of `count` items of `bytes_each` needs; throws failure
+/// naming the request, the memory it needs and `option` (the option to
+/// change) when that is more than `limit` bytes (default 1 GiB).
+void check_request_memory(double count, double bytes_each, const std::string& what, std::string_view option,
+                          double limit = 1024.0 * 1024.0 * 1024.0);
+
+/// Bytes one frame of a clip costs on its way through a subcommand: its
+/// rotations and translations, a frames x DOF copy or two, and its BVH text.
+double bytes_per_frame(const skeleton_t& skeleton);
 
 // ---------------------------------------------------------------------------
 // Output

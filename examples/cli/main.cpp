@@ -4,13 +4,17 @@
 #include "commands.hpp"
 #include "common.hpp"
 
+#include <anima/core/error.hpp>
 #include <anima/core/version.hpp>
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <cstddef>
 #include <exception>
 #include <iostream>
 #include <string>
+#include <string_view>
 
 namespace {
 
@@ -45,6 +49,18 @@ int main(int argc, char** argv) {
     // into their own --help.
     app.footer("Run 'anima SUBCOMMAND --help' for the options of a subcommand.");
 
+    // CLI11 would say "A subcommand is required" for a mistyped one: name it.
+    if (argc > 1 && argv[1][0] != '-') {
+        const std::string name = argv[1];
+        bool known = false;
+        for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+            known = known || sub->check_name(name);
+        if (!known) {
+            std::cerr << "anima: '" << anima::detail::escape_for_message(name, 100)
+                      << "' is not a subcommand; run 'anima --help' for the list\n";
+            return 2;
+        }
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::Error& e) {
@@ -52,7 +68,18 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     } catch (const std::exception& e) {
         std::cout.flush();
-        std::cerr << "anima: " << e.what() << '\n';
+        // Text quoted from files is escaped where it is quoted; this catches
+        // anything else (a path, a system message) with raw bytes in it.
+        // Line breaks of a multi-line message stay.
+        const std::string what = e.what();
+        std::string shown;
+        for (std::size_t begin = 0; begin <= what.size();) {
+            const std::size_t end = std::min(what.find('\n', begin), what.size());
+            if (begin) shown += '\n';
+            shown += anima::detail::escape_for_message(std::string_view(what).substr(begin, end - begin), 4000);
+            begin = end + 1;
+        }
+        std::cerr << "anima: " << shown << '\n';
         return 1;
     }
     std::cout.flush();

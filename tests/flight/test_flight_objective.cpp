@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <random>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -171,6 +172,42 @@ TEST_CASE_TEMPLATE("flight problems refuse bad arguments by name", T, float, dou
     CHECK(contains(invalid_argument_message([&] { p.objective(times); }), "first and last"));
     anima::vector_x<T> r;
     CHECK(contains(invalid_argument_message([&] { p.timing_residuals(anima::vector_x<T>(5), r, nullptr); }), "expected 2"));
+}
+
+TEST_CASE_TEMPLATE("key times and root positions beyond the documented bounds are refused by name", T, float, double) {
+    std::mt19937 rng(11);
+    const auto model = random_model<T>(rng, 3);
+    auto keys = random_keys<T>(rng, model.size(), 4, T(1));
+    keys.root_positions[2].x() = static_cast<T>(std::is_same_v<T, float> ? 1e30 : 1e300);
+    CHECK(contains(invalid_argument_message([&] { anima::flight_problem<T>(model, keys, {}); }),
+                   "key 2: root position has a coordinate outside +-1e6 m"));
+    keys.root_positions[2].x() = T(9e5);  // far, but within the bound: a finite objective
+    const anima::flight_problem<T> far(model, keys, {});
+    CHECK(std::isfinite(far.objective(keys)));
+    keys.times.back() = T(2e6);
+    CHECK(contains(invalid_argument_message([&] { anima::flight_problem<T>(model, keys, {}); }), "outside +-1e6 s"));
+}
+
+TEST_CASE_TEMPLATE("momentum_drift is not defined (empty) without mean angular momentum, defined otherwise", T, float, double) {
+    std::mt19937 rng(5);
+    const auto model = random_model<T>(rng, 3);
+    // Every key the same pose at the same root position: nothing rotates.
+    anima::flight_keys<T> still;
+    for (int k = 0; k < 4; ++k) {
+        still.times.push_back(T(0.25) * T(k));
+        still.root_positions.push_back(vec3<T>(T(1), T(2), T(3)));
+        still.rotations.emplace_back(model.size(), Eigen::Quaternion<T>::Identity());
+    }
+    const anima::flight_problem<T> p(model, still, {});
+    CHECK(!p.momentum_drift(still));
+    CHECK(std::isfinite(p.objective(still)));
+    // A moving key set has a finite, non-negative drift.
+    const auto keys = random_keys<T>(rng, model.size(), 4, T(1));
+    const anima::flight_problem<T> q(model, keys, {});
+    const auto d = q.momentum_drift(keys);
+    REQUIRE(d);
+    CHECK(*d >= T(0));
+    CHECK(std::isfinite(*d));
 }
 
 }  // namespace

@@ -13,6 +13,8 @@
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 
+#include "fuzz_support.hpp"
+
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -21,11 +23,8 @@
 
 namespace {
 
-constexpr std::size_t max_input = 1 << 20;  // keep memory bounded
-
-inline void require(bool ok) {
-    if (!ok) __builtin_trap();
-}
+using anima_fuzz::max_input;
+using anima_fuzz::require;
 
 template <class T>
 void check_document(const anima::bvh_document<T>& doc) {

@@ -12,6 +12,8 @@
 
 #include <doctest/doctest.h>
 
+#include "../test_support.hpp"
+
 #ifdef ANIMA_HAVE_MAXFLOW
 #include <maxflow/graph.h>
 #endif
@@ -890,4 +892,31 @@ TEST_CASE("DIMACS: files") {
         CHECK(e.line() == 1);
         CHECK(e.file() == dir + "/walk_cmu31_02_01.bvh");
     }
+}
+
+TEST_CASE("DIMACS: counts that would size memory are checked against the file before allocating") {
+    const auto message = [](const std::string& text) {
+        try {
+            (void)anima::parse_dimacs_max_flow<long long>(text, "big.max");
+        } catch (const anima::parse_error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    // Two billion nodes for one arc: refused on the problem line, nothing allocated.
+    const std::string nodes = message("c tiny\np max 2000000000 1\nn 1 s\nn 2 t\na 1 2 3\n");
+    CHECK(anima_test::contains(nodes, "big.max:2:"));
+    CHECK(anima_test::contains(nodes, "2000000000 nodes for 1 arcs"));
+    // More arcs announced than the file has bytes for.
+    const std::string arcs = message("p max 2 1000000000\nn 1 s\nn 2 t\na 1 2 3\n");
+    CHECK(anima_test::contains(arcs, "big.max:1:"));
+    CHECK(anima_test::contains(arcs, "more than the file's"));
+    // Up to dimacs_max_isolated_nodes isolated nodes are fine, and so are
+    // many nodes justified by arcs.
+    const auto p = anima::parse_dimacs_max_flow<int>("p max 1000000 1\nn 1 s\nn 2 t\na 1 2 3\n");
+    CHECK(p.nodes == 1000000);
+    CHECK(anima::solve_max_flow(p).flow == 3);
+    std::string many = "p max 2000000 1000000\nn 1 s\nn 2 t\n";
+    for (int k = 0; k < 1000000; ++k) many += "a 1 2 1\n";
+    CHECK(anima::parse_dimacs_max_flow<int>(many).arcs.size() == 1000000);
 }

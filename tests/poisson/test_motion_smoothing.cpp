@@ -12,7 +12,9 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <type_traits>
 #include <string>
@@ -21,6 +23,11 @@
 namespace {
 
 using matd = Eigen::MatrixXd;
+
+template <class T>
+T tolerance_of() {
+    return static_cast<T>(std::is_same_v<T, double> ? 1e-6 : 1e-2);
+}
 
 // A smooth motion with steps added from each seam on.
 matd stitched(Eigen::Index frames, Eigen::Index dofs, const std::vector<std::size_t>& seams, matd* smooth = nullptr) {
@@ -179,4 +186,28 @@ TEST_CASE("smooth_seams rejects bad input") {
     CHECK(anima::parse_poisson_method("dst") == anima::poisson_method::dst);
     CHECK_THROWS_AS(anima::parse_seam_smoothing_form("3d"), anima::invalid_argument);
     CHECK_THROWS_AS(anima::parse_poisson_method("cg"), anima::invalid_argument);
+}
+
+TEST_CASE_TEMPLATE("a radius beyond the clip (up to SIZE_MAX) replaces every difference, without wrapping", T, double, float) {
+    using mat = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const mat m = stitched(60, 2, {20, 40}).template cast<T>();
+    const mat whole = anima::seam_target_differences(m, {20, 40}, 59);
+    for (const std::size_t radius : {std::size_t{60}, std::size_t{1000}, std::numeric_limits<std::size_t>::max() - 3,
+                                     std::numeric_limits<std::size_t>::max()})
+        CHECK(anima::seam_target_differences(m, {20, 40}, radius) == whole);
+    // Every difference replaced, no kept row on either side: zero targets.
+    CHECK(whole.isZero());
+    anima::seam_smoothing_params<T> prm;
+    prm.radius = std::numeric_limits<std::size_t>::max();
+    const auto r = anima::smooth_seams(m, {20, 40}, prm);
+    CHECK(r.motion.allFinite());
+    // The first and last frames are kept, and the rest lies between them (a straight line).
+    CHECK(r.motion.row(0) == m.row(0));
+    CHECK(r.motion.row(59) == m.row(59));
+    for (Eigen::Index f = 0; f < 60; ++f)
+        for (Eigen::Index c = 0; c < 2; ++c) {
+            const T lo = std::min(m(0, c), m(59, c)), hi = std::max(m(0, c), m(59, c));
+            CHECK(r.motion(f, c) >= lo - tolerance_of<T>());
+            CHECK(r.motion(f, c) <= hi + tolerance_of<T>());
+        }
 }

@@ -245,3 +245,87 @@ TEST_CASE("SADM on the bundled FGNet frames: every 4th frame held out") {
 }
 
 }  // namespace
+
+TEST_CASE("PNM: a header claiming more pixels than the file holds fails before allocating") {
+    const auto message = [](const std::string& bytes) {
+        try {
+            (void)anima::parse_pnm(bytes, "big.pgm");
+        } catch (const anima::parse_error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    // 30000 x 30000 would be 1.8 GB of samples: refused from the header alone.
+    for (const char* magic : {"P5", "P2", "P6", "P3"}) {
+        const std::string m = message(std::string(magic) + "\n30000 30000\n255\n\x01\x02");
+        CHECK(contains(m, "big.pgm:"));
+        CHECK(contains(m, "30000 x 30000"));
+    }
+    // A file that has its samples is read.
+    const auto ok = anima::parse_pnm("P2\n2 2\n9\n1 2 3 9\n", "ok.pgm");
+    CHECK(ok.pixels.pixels.size() == 4);
+    CHECK(ok.pixels.pixels[3] == 9);
+}
+
+TEST_CASE_TEMPLATE(".pts: a point count beyond the file's size and landmarks outside the image", T, float, double) {
+    try {
+        (void)anima::parse_pts<T>("version: 1\nn_points: 999999\n{\n1 2\n}\n", "many.pts");
+        FAIL("no error");
+    } catch (const anima::parse_error& e) {
+        CHECK(e.line() == 2);
+        CHECK(contains(e.message(), "999999"));
+    }
+    anima::landmark_set<T> s(3, 2);
+    s << T(0), T(0), T(80), T(84), T(40), T(41.5);  // the corners of the image's area are on it
+    CHECK_NOTHROW(anima::check_landmarks_inside(s, 80, 84, "f.pts"));
+    s(1, 0) = T(300000);
+    s(1, 1) = T(-300000);
+    const std::string m = invalid_argument_message([&] { anima::check_landmarks_inside(s, 80, 84, "f.pts"); });
+    CHECK(contains(m, "f.pts: landmark 1 (300000, -300000) is outside the 80 x 84 image"));
+    s(1, 0) = T(80.5);  // beyond the right edge
+    s(1, 1) = T(3);
+    CHECK(contains(invalid_argument_message([&] { anima::check_landmarks_inside(s, 80, 84, "f.pts"); }), "landmark 1"));
+}
+
+TEST_CASE_TEMPLATE("SADM training refuses a landmark outside its image, naming the frame and point", T, float, double) {
+    auto train = synthetic_faces<T>(6, 2);
+    train.landmarks[4](7, 0) = T(300000);
+    train.landmarks[4](7, 1) = T(-300000);
+    const std::string m =
+        invalid_argument_message([&] { (void)anima::sadm_model<T>::train(train.images, train.landmarks); });
+    CHECK(contains(m, "frame 4: landmark 7"));
+}
+
+TEST_CASE_TEMPLATE("SADM model load: sizes are checked before allocating, with file:line", T, float, double) {
+    const auto train = synthetic_faces<T>(20, 5);
+    const auto model = anima::sadm_model<T>::train(train.images, train.landmarks);
+    std::stringstream text;
+    model.save(text);
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(text, l);) lines.push_back(l);
+    const auto error_of = [&](const std::string& key, const std::string& replacement, std::size_t* at = nullptr) {
+        auto copy = lines;
+        std::size_t k = 0;
+        while (copy[k].rfind(key, 0) != 0) ++k;
+        if (at) *at = k + 1;
+        copy[k] = replacement;
+        std::string joined;
+        for (const auto& l : copy) joined += l + "\n";
+        std::istringstream s(joined);
+        try {
+            (void)anima::sadm_model<T>::load(s, "m.sadm");
+        } catch (const anima::parse_error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    std::size_t line = 0;
+    const std::string raster = error_of("raster ", "raster 999999 999999", &line);
+    CHECK(contains(raster, "m.sadm:" + std::to_string(line) + ": raster 999999 x 999999"));
+    CHECK(contains(raster, "max_raster_pixels"));
+    // A matrix claiming 10^7 rows ends with the file, not with bad_alloc.
+    const std::string rows = error_of("components ", "components 10000000 16000000", &line);
+    CHECK(contains(rows, "m.sadm:" + std::to_string(line) + ":"));
+    const std::string tris = error_of("triangles ", "triangles 16000000 3", &line);
+    CHECK(contains(tris, "m.sadm:"));
+}

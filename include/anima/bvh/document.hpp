@@ -20,9 +20,21 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace anima {
+namespace detail {
+
+/// Whether BVH text can carry a joint name so that it reads back the same:
+/// not empty, no brace, no line break, no white space at either end.
+inline bool bvh_writable_name(std::string_view name) {
+    const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; };
+    return !name.empty() && name.find_first_of("{}\r\n") == std::string_view::npos && !blank(name.front()) &&
+           !blank(name.back());
+}
+
+}  // namespace detail
 
 template <class T>
 struct bvh_document {

@@ -1,12 +1,13 @@
 // BVH reader. Accepts any rotation channel order per joint, position channels
-// on any joint, End Sites, tabs, CRLF or mixed line endings, scientific
-// notation. Rejects, with an anima::parse_error naming file and line:
+// on any joint, End Sites, tabs, LF, CRLF, CR-only or mixed line endings, a
+// UTF-8 byte order mark, scientific notation. Rejects, with an anima::parse_error naming file and line:
 // truncated files, wrong channel counts, bad or non-finite numbers, duplicate
 // joint names, unbalanced braces, frame-count mismatches.
 #pragma once
 
 #include <anima/bvh/document.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/file_io.hpp>
 #include <anima/motion/clip.hpp>
 
 #include <Eigen/Core>
@@ -16,9 +17,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
-#include <fstream>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -29,7 +28,9 @@ namespace detail {
 
 class bvh_parser {
 public:
-    bvh_parser(std::string_view text, std::string source) : s_(text), source_(std::move(source)) {}
+    bvh_parser(std::string_view text, std::string source) : s_(text), source_(std::move(source)) {
+        if (s_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;  // UTF-8 byte order mark
+    }
 
     template <class T>
     bvh_document<T> parse() {
@@ -61,6 +62,12 @@ private:
 
     static bool space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
 
+    /// Whether a line ends at byte i: LF, or a CR not followed by LF (CRLF
+    /// ends at its LF, a lone CR is a line end of its own).
+    bool line_end(std::size_t i) const {
+        return s_[i] == '\n' || (s_[i] == '\r' && (i + 1 == s_.size() || s_[i + 1] != '\n'));
+    }
+
     static bool keyword(std::string_view t, std::string_view k) {
         if (t.size() != k.size()) return false;
         for (std::size_t i = 0; i < t.size(); ++i) {
@@ -76,7 +83,7 @@ private:
     /// Next whitespace-separated token (empty at end of input); tok_line_ is its line.
     std::string_view next() {
         while (pos_ < s_.size() && space(s_[pos_])) {
-            if (s_[pos_] == '\n') ++line_;
+            if (line_end(pos_)) ++line_;
             ++pos_;
         }
         tok_line_ = line_;
@@ -89,7 +96,7 @@ private:
     std::string_view rest_of_line() {
         while (pos_ < s_.size() && (s_[pos_] == ' ' || s_[pos_] == '\t')) ++pos_;
         const std::size_t b = pos_;
-        while (pos_ < s_.size() && s_[pos_] != '\n') ++pos_;
+        while (pos_ < s_.size() && !line_end(pos_)) ++pos_;
         std::string_view r = s_.substr(b, pos_ - b);
         while (!r.empty() && space(r.back())) r.remove_suffix(1);
         return r;
@@ -136,7 +143,10 @@ private:
     void commit(skeleton<T>& sk, open_joint& j, std::vector<Eigen::Matrix<T, 3, 1>>& offsets) {
         if (j.index >= 0) return;
         if (!j.has_offset) fail(j.line, "joint '" + j.name + "' has no OFFSET");
-        if (sk.find(j.name)) fail(j.line, "joint name '" + j.name + "' is used twice");
+        if (const auto first = sk.find(j.name))
+            fail(j.line, "joint name '" + j.name + "' is used twice (first on line " +
+                             std::to_string(joint_lines_[*first]) + ")");
+        joint_lines_.push_back(j.line);
         j.index = static_cast<int>(sk.add_joint(j.name, j.parent, offsets.back(), j.channels));
     }
 
@@ -257,7 +267,9 @@ private:
         }
         doc.frame_time = number<T>(time, tok_line_, "frame time");
         if (!(doc.frame_time > T(0))) fail(tok_line_, "frame time must be positive, got " + std::string(time));
-        rest_of_line();
+        const std::size_t time_line = tok_line_;
+        const std::string_view after = rest_of_line();
+        if (!after.empty()) fail(time_line, "unexpected '" + std::string(after) + "' after the frame time");
         if (pos_ < s_.size()) ++pos_, ++line_;  // past the newline
 
         const std::size_t nc = doc.skeleton.channel_count();
@@ -274,8 +286,8 @@ private:
             const std::size_t line = line_;
             std::size_t on_line = 0;
             for (;;) {
-                while (pos_ < s_.size() && s_[pos_] != '\n' && space(s_[pos_])) ++pos_;
-                if (pos_ >= s_.size() || s_[pos_] == '\n') break;
+                while (pos_ < s_.size() && !line_end(pos_) && space(s_[pos_])) ++pos_;
+                if (pos_ >= s_.size() || line_end(pos_)) break;
                 const std::size_t b = pos_;
                 while (pos_ < s_.size() && !space(s_[pos_])) ++pos_;
                 ++on_line;
@@ -305,16 +317,8 @@ private:
     std::size_t pos_ = 0;
     std::size_t line_ = 1;
     std::size_t tok_line_ = 1;
+    std::vector<std::size_t> joint_lines_;  // the line of every joint added, for messages
 };
-
-inline std::string read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw io_error("cannot open '" + path + "' for reading");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw io_error("error while reading '" + path + "'");
-    return ss.str();
-}
 
 }  // namespace detail
 
@@ -326,10 +330,10 @@ bvh_document<T> parse_bvh_document(std::string_view text, std::string source = "
 }
 
 /// Reads a BVH file into a document. Throws anima::io_error when the file
-/// cannot be read and anima::parse_error (file:line: message) when it is malformed.
+/// cannot be read (missing, a folder, larger than 1 GiB) and anima::parse_error (file:line: message) when it is malformed.
 template <class T = double>
 bvh_document<T> read_bvh_document(const std::string& path) {
-    return parse_bvh_document<T>(detail::read_file(path), path);
+    return parse_bvh_document<T>(read_file(path), path);
 }
 
 /// Parses BVH text into a clip.

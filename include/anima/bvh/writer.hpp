@@ -4,12 +4,13 @@
 
 #include <anima/bvh/document.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/file_io.hpp>
 #include <anima/motion/clip.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -57,13 +58,14 @@ void append_offset(std::string& out, const Eigen::Matrix<T, 3, 1>& o, int decima
 /// channel), an empty skeleton, or decimals outside 0..17.
 template <class T>
 std::string format_bvh(const bvh_document<T>& doc, const bvh_write_options& options = {}) {
+    constexpr std::size_t max_indent = 64;
     const auto& sk = doc.skeleton;
     const int dec = options.decimals;
     if (dec < 0 || dec > 17) throw invalid_argument("anima::format_bvh: decimals must be 0..17");
     if (sk.empty()) throw invalid_argument("anima::format_bvh: the skeleton has no joints");
     for (const auto& j : sk.joints())
-        if (j.name.find_first_of("{}\r\n") != std::string::npos || j.name.front() == ' ' || j.name.back() == ' ')
-            throw invalid_argument("anima::format_bvh: joint name '" + j.name +
+        if (!detail::bvh_writable_name(j.name))
+            throw invalid_argument("anima::format_bvh: joint name '" + detail::escape_for_message(j.name) +
                                    "' cannot be written to BVH (braces, line breaks or edge spaces)");
     const std::size_t nc = sk.channel_count();
     if (doc.values.size() != doc.frames * nc)
@@ -91,7 +93,10 @@ std::string format_bvh(const bvh_document<T>& doc, const bvh_write_options& opti
     for (std::size_t root = 0; root < sk.size(); ++root) {
         if (sk[root].parent >= 0) continue;
         std::vector<item> stack{{root, 0}};
-        const auto indent = [&](std::size_t extra) { out.append(stack.size() - 1 + extra, '\t'); };
+        // Indentation stops growing at max_indent tabs, so that the text of a
+        // deep hierarchy stays linear in its size.
+        const auto tabs = [&](std::size_t depth) { out.append(std::min(depth, max_indent), '\t'); };
+        const auto indent = [&](std::size_t extra) { tabs(stack.size() - 1 + extra); };
         out += "ROOT " + sk[root].name + "\n{\n";
         written.push_back(root);
         indent(1);
@@ -133,7 +138,7 @@ std::string format_bvh(const bvh_document<T>& doc, const bvh_write_options& opti
                 out += "}\n";
             }
             stack.pop_back();
-            out.append(stack.size(), '\t');
+            tabs(stack.size());
             out += "}\n";
         }
     }
@@ -172,16 +177,13 @@ std::string format_bvh(const clip<T>& c, const bvh_write_options& options = {}) 
     return format_bvh(to_document(c, options.angles), options);
 }
 
-/// Writes a document or a clip to a BVH file. Throws anima::io_error when the
-/// file cannot be written; nothing is written when formatting fails.
+/// Writes a document or a clip to a BVH file, atomically (see
+/// write_file_atomically). Throws anima::io_error when the file cannot be
+/// written; nothing is written when formatting fails, and an existing file is
+/// left as it was when writing fails.
 template <class Motion>
 void write_bvh(const Motion& motion, const std::string& path, const bvh_write_options& options = {}) {
-    const std::string text = format_bvh(motion, options);
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw io_error("cannot open '" + path + "' for writing");
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) throw io_error("error while writing '" + path + "'");
+    write_file_atomically(path, format_bvh(motion, options));
 }
 
 }  // namespace anima

@@ -296,16 +296,18 @@ public:
 
     /// Relative variation of the angular momentum about the centre of mass
     /// over the flight: max_t |L(t) - mean L| / |mean L| (0 when conserved).
-    T momentum_drift(const flight_keys<T>& keys, int samples = 201) const {
+    /// Not defined (empty) when the mean angular momentum is zero, e.g. for a
+    /// body that does not rotate, or when it is not finite.
+    std::optional<T> momentum_drift(const flight_keys<T>& keys, int samples = 201) const {
         const auto L = angular_momentum(keys, samples);
         Eigen::Matrix<T, 3, 1> mean = Eigen::Matrix<T, 3, 1>::Zero();
         for (const auto& l : L) mean += l;
         mean /= T(L.size());
         T worst(0);
         for (const auto& l : L) worst = std::max(worst, (l - mean).norm());
-        if (!(mean.norm() > T(0)))
-            throw invalid_argument("anima::flight_problem::momentum_drift: the mean angular momentum is zero");
-        return worst / mean.norm();
+        const T drift = worst / mean.norm();
+        if (!(mean.norm() > T(0)) || !std::isfinite(drift)) return std::nullopt;
+        return drift;
     }
 
 private:

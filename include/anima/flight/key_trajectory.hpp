@@ -52,8 +52,13 @@ struct flight_keys {
     }
 };
 
+/// The largest key time (seconds) and root coordinate (metres) a flight may
+/// have, in magnitude: beyond them the dynamics' squares overflow.
+constexpr double flight_max_time = 1e6, flight_max_position = 1e6;
+
 /// Checks a key set against a number of joints: >= 2 keys, strictly
-/// increasing finite times, finite positions, non-zero finite quaternions.
+/// increasing finite times within +-flight_max_time, root positions within
+/// +-flight_max_position, non-zero finite quaternions.
 template <class T>
 void check_keys(const flight_keys<T>& keys, std::size_t joints, const char* who) {
     const std::string w(who);
@@ -67,8 +72,13 @@ void check_keys(const flight_keys<T>& keys, std::size_t joints, const char* who)
         if (!std::isfinite(keys.times[k]) || (k > 0 && !(keys.times[k] > keys.times[k - 1])))
             throw invalid_argument(w + ": key times must be finite and increase strictly; key " + std::to_string(k) +
                                    " has " + std::to_string(static_cast<double>(keys.times[k])));
+        if (!(std::abs(static_cast<double>(keys.times[k])) <= flight_max_time))
+            throw invalid_argument(w + ": key " + std::to_string(k) + ": time " +
+                                   std::to_string(static_cast<double>(keys.times[k])) + " s is outside +-1e6 s");
         if (!keys.root_positions[k].allFinite())
             throw invalid_argument(w + ": key " + std::to_string(k) + ": root position is not finite");
+        if (!(static_cast<double>(keys.root_positions[k].cwiseAbs().maxCoeff()) <= flight_max_position))
+            throw invalid_argument(w + ": key " + std::to_string(k) + ": root position has a coordinate outside +-1e6 m");
         if (keys.rotations[k].size() != joints)
             throw invalid_argument(w + ": key " + std::to_string(k) + " has " +
                                    std::to_string(keys.rotations[k].size()) + " rotations for " +

@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <string>
+#include <optional>
 #include <vector>
 
 namespace anima {
@@ -30,7 +31,9 @@ template <class T>
 struct flight_optimization_result {
     flight_keys<T> initial, optimized;
     T objective_initial{}, objective_final{};  ///< T^-1 integral of sum F_i^2, (N^2 + (N m)^2)
-    T momentum_drift_initial{}, momentum_drift_final{};
+    /// flight_problem::momentum_drift of the initial and optimised keys;
+    /// empty where it is not defined (no mean angular momentum).
+    std::optional<T> momentum_drift_initial, momentum_drift_final;
     std::vector<T> history;  ///< objective after each accepted step (non-increasing)
     int iterations = 0, evaluations = 0;
     optimize_status status = optimize_status::max_iterations;

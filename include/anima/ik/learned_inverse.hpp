@@ -268,25 +268,29 @@ public:
         const int k = r.integer();
         if (k < 1) r.fail("clusters must be at least 1");
         const Eigen::Index e3 = 3 * ne;
-        m.centres_.resize(m.dofs_, k);
-        m.centre_effectors_.resize(e3, k);
-        m.inverses_.assign(static_cast<std::size_t>(k), ik_matrix<T>());
+        // The counts are not trusted to size memory: values are collected as
+        // they are read, so a file claiming more than it holds fails at its
+        // end instead of allocating first.
+        std::vector<T> centres, reach;
         for (int c = 0; c < k; ++c) {
             r.next("centre");
-            for (int i = 0; i < m.dofs_; ++i) m.centres_(i, c) = r.number();
+            for (int i = 0; i < m.dofs_; ++i) centres.push_back(r.number());
             r.next("reach");
-            for (Eigen::Index i = 0; i < e3; ++i) m.centre_effectors_(i, c) = r.number();
+            for (Eigen::Index i = 0; i < e3; ++i) reach.push_back(r.number());
+            if (m.inverses_.size() < static_cast<std::size_t>(c) + 1) m.inverses_.resize(static_cast<std::size_t>(c) + 1);
             r.next("inverse");
             const int has = r.integer();
             if (has != 0 && has != 1) r.fail("inverse flag must be 0 or 1");
             if (has) {
-                ik_matrix<T> inv(m.dofs_, e3);
-                for (int i = 0; i < m.dofs_; ++i)
-                    for (Eigen::Index j = 0; j < e3; ++j) inv(i, j) = r.number();
-                m.inverses_[static_cast<std::size_t>(c)] = std::move(inv);
+                std::vector<T> inv;
+                for (Eigen::Index n = 0; n < m.dofs_ * e3; ++n) inv.push_back(r.number());
+                m.inverses_[static_cast<std::size_t>(c)] =
+                    Eigen::Map<const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(inv.data(), m.dofs_, e3);
             }
             r.end();
         }
+        m.centres_ = Eigen::Map<const ik_matrix<T>>(centres.data(), m.dofs_, k);
+        m.centre_effectors_ = Eigen::Map<const ik_matrix<T>>(reach.data(), e3, k);
         return m;
     }
 

@@ -5,14 +5,12 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/file_io.hpp>
 #include <anima/image/image.hpp>
 
 #include <cctype>
 #include <cstddef>
 #include <cstdint>
-#include <fstream>
-#include <iterator>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -64,6 +62,8 @@ public:
     }
 
     std::size_t line() const noexcept { return line_; }
+    /// Bytes not read yet.
+    std::size_t remaining() const noexcept { return text_.size() - pos_; }
 
 private:
     void skip_blanks() {
@@ -104,6 +104,23 @@ inline pnm_image parse_pnm(std::string_view bytes, const std::string& source = "
                 " is outside 1..65535 on an axis");
     const unsigned long maxval = in.number("maxval");
     if (maxval == 0 || maxval > 65535) in.fail("maxval " + std::to_string(maxval) + " is outside 1..65535");
+    // Every sample needs at least one byte (two for 16-bit binary samples, a
+    // digit and a separator as text): check before allocating anything.
+    const std::size_t samples = static_cast<std::size_t>(width) * height * static_cast<std::size_t>(channels);
+    const std::size_t bytes_per_sample = maxval > 255 ? 2 : 1;
+    std::size_t start = 0;
+    if (text) {
+        if (in.remaining() / 2 + 1 < samples)
+            in.fail("file ends inside the pixel data: " + std::to_string(in.remaining()) + " bytes cannot hold the " +
+                    std::to_string(samples) + " samples of a " + std::to_string(width) + " x " +
+                    std::to_string(height) + " image");
+    } else {
+        start = in.binary_start();
+        if (bytes.size() - start < samples * bytes_per_sample)
+            in.fail("file ends inside the pixel data: " + std::to_string(bytes.size() - start) + " bytes for " +
+                    std::to_string(samples * bytes_per_sample) + " expected (" + std::to_string(width) + " x " +
+                    std::to_string(height) + " image)");
+    }
     pnm_image out;
     out.maxval = static_cast<int>(maxval);
     out.pixels = image<std::uint16_t>(static_cast<int>(width), static_cast<int>(height), channels);
@@ -116,11 +133,6 @@ inline pnm_image parse_pnm(std::string_view bytes, const std::string& source = "
         }
         return out;
     }
-    const std::size_t start = in.binary_start();
-    const std::size_t bytes_per_sample = maxval > 255 ? 2 : 1;
-    if (bytes.size() - start < px.size() * bytes_per_sample)
-        in.fail("file ends inside the pixel data: " + std::to_string(bytes.size() - start) + " bytes for " +
-                std::to_string(px.size() * bytes_per_sample) + " expected");
     for (std::size_t k = 0; k < px.size(); ++k) {
         const auto byte = [&](std::size_t i) { return static_cast<unsigned>(static_cast<unsigned char>(bytes[i])); };
         const unsigned v = bytes_per_sample == 2 ? (byte(start + 2 * k) << 8) | byte(start + 2 * k + 1) : byte(start + k);
@@ -130,15 +142,10 @@ inline pnm_image parse_pnm(std::string_view bytes, const std::string& source = "
     return out;
 }
 
-/// Reads a PGM/PPM file. Throws anima::io_error when it cannot be opened,
+/// Reads a PGM/PPM file. Throws anima::io_error when it cannot be read (it
+/// does not exist, is a folder),
 /// anima::parse_error ("path:line: message") when it is malformed.
-inline pnm_image read_pnm(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw io_error("anima::read_pnm: cannot open '" + path + "'");
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw io_error("anima::read_pnm: cannot read '" + path + "'");
-    return parse_pnm(bytes, path);
-}
+inline pnm_image read_pnm(const std::string& path) { return parse_pnm(read_file(path), path); }
 
 /// Binary PGM (one channel) or PPM (three channels) bytes of an 8-bit image.
 /// Throws anima::invalid_argument for an empty image or a pixel count that
@@ -155,13 +162,11 @@ inline std::string format_pnm(const image<unsigned char>& img) {
     return out;
 }
 
-/// Writes an 8-bit image as binary PGM/PPM. Throws anima::io_error when the
-/// file cannot be written.
+/// Writes an 8-bit image as binary PGM/PPM, atomically (see
+/// write_file_atomically). Throws anima::io_error when the file cannot be
+/// written; an existing file is then left as it was.
 inline void write_pnm(const std::string& path, const image<unsigned char>& img) {
-    const std::string bytes = format_pnm(img);
-    std::ofstream out(path, std::ios::binary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw io_error("anima::write_pnm: cannot write '" + path + "'");
+    write_file_atomically(path, format_pnm(img));
 }
 
 /// Writes grey levels (rounded, clamped to 0-255) as a binary PGM. Throws

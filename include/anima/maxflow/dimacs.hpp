@@ -15,6 +15,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/file_io.hpp>
 #include <anima/maxflow/capacity.hpp>
 #include <anima/maxflow/graph.hpp>
 #include <anima/maxflow/min_cut.hpp>
@@ -22,9 +23,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstddef>
-#include <fstream>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -33,6 +32,11 @@
 #include <vector>
 
 namespace anima {
+
+/// A DIMACS file may declare up to this many nodes whatever its arcs; above
+/// it, a node count more than twice the arc count plus 2 is refused (nodes no
+/// arc touches carry no flow, and each one costs memory).
+constexpr std::size_t dimacs_max_isolated_nodes = std::size_t{1} << 20;
 
 /// A max-flow problem read from DIMACS text. Node ids are 0-based.
 template <class Cap>
@@ -79,8 +83,22 @@ public:
                                                 std::to_string(p.nodes));
                 if (p.nodes > detail::bk_max_index)
                     fail(line, std::to_string(p.nodes) + " nodes are more than the solver's 32-bit node ids can hold");
-                // Reserve only what a file of this size can hold: the count is not trusted.
-                p.arcs.reserve(std::min(declared_arcs, text_.size() / 6 + 1));
+                // The counts size memory: check them against what the file can
+                // hold before anything is allocated. An arc line takes at
+                // least 6 bytes ("a 1 2 3" and a line end).
+                const std::size_t room = text_.size() / 6 + 1;
+                if (declared_arcs > room)
+                    fail(line, "the problem line announces " + std::to_string(declared_arcs) +
+                                   " arcs, more than the file's " + std::to_string(text_.size()) +
+                                   " bytes can hold (at most " + std::to_string(room) + ")");
+                // Nodes no arc touches carry no flow: beyond dimacs_max_isolated_nodes
+                // the node count must be justified by arcs.
+                if (p.nodes > dimacs_max_isolated_nodes && p.nodes / 2 > declared_arcs + 1)
+                    fail(line, "the problem line announces " + std::to_string(p.nodes) + " nodes for " +
+                                   std::to_string(declared_arcs) + " arcs: more than " +
+                                   std::to_string(dimacs_max_isolated_nodes) +
+                                   " nodes need at least one arc per two nodes");
+                p.arcs.reserve(declared_arcs);
             } else if (kind == "n") {
                 need_problem(line, problem_line, "'n' line");
                 const std::size_t id = node(line, token(rest), p.nodes);
@@ -196,15 +214,6 @@ private:
     std::string file_;
 };
 
-inline std::string dimacs_read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw io_error("cannot open '" + path + "' for reading");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw io_error("error while reading '" + path + "'");
-    return ss.str();
-}
-
 }  // namespace detail
 
 /// Parses DIMACS max-flow text; `file` names it in error messages.
@@ -218,7 +227,7 @@ dimacs_max_flow<Cap> parse_dimacs_max_flow(std::string_view text, std::string fi
 /// read and anima::parse_error (file:line: message) when it is malformed.
 template <class Cap = long long>
 dimacs_max_flow<Cap> read_dimacs_max_flow(const std::string& path) {
-    return parse_dimacs_max_flow<Cap>(detail::dimacs_read_file(path), path);
+    return parse_dimacs_max_flow<Cap>(read_file(path), path);
 }
 
 /// The problem as a flow_graph with one node per DIMACS node (id - 1). The

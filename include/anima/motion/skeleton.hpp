@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -88,6 +89,7 @@ public:
         j.channels = std::move(channels);
         joints_.push_back(std::move(j));
         const std::size_t index = joints_.size() - 1;
+        by_name_.emplace(joints_.back().name, index);
         translation_slot_.push_back(has_position_channels(index) ? static_cast<int>(translated_++) : -1);
         return index;
     }
@@ -104,17 +106,30 @@ public:
             if (parents[i] < -1 || parents[i] >= static_cast<int>(n))
                 throw invalid_argument("anima::skeleton::from_parents: joint '" + names[i] + "' has parent index " +
                                        std::to_string(parents[i]) + " out of range");
-        // Depth by walking up; a walk longer than n joints has looped.
+        // Depth by walking up to a joint whose depth is known, so each joint
+        // is walked once (linear even for a chain of 100,000 joints); meeting
+        // a joint of the current walk again means a cycle.
         std::vector<std::size_t> order(n);
         std::vector<std::size_t> depth(n, 0);
+        std::vector<char> state(n, 0);  // 0 unknown, 1 on the current walk, 2 known
+        std::vector<std::size_t> walk;
         for (std::size_t i = 0; i < n; ++i) {
-            std::size_t d = 0;
-            for (int p = parents[i]; p != -1; p = parents[static_cast<std::size_t>(p)])
-                if (++d > n)  // after n steps the walk is inside the cycle: p is on it
-                    throw invalid_argument("anima::skeleton::from_parents: joint '" +
-                                           names[static_cast<std::size_t>(p)] + "' is on a cycle of parents");
-            depth[i] = d;
             order[i] = i;
+            walk.clear();
+            std::size_t j = i;
+            while (state[j] == 0) {
+                state[j] = 1;
+                walk.push_back(j);
+                if (parents[j] == -1) break;
+                j = static_cast<std::size_t>(parents[j]);
+            }
+            if (state[j] == 1 && parents[j] != -1)
+                throw invalid_argument("anima::skeleton::from_parents: joint '" + names[j] + "' is on a cycle of parents");
+            std::size_t d = state[j] == 2 ? depth[j] + 1 : 0;  // j known: its children are one deeper; j a root: 0
+            for (std::size_t k = walk.size(); k-- > 0;) {
+                depth[walk[k]] = d++;
+                state[walk[k]] = 2;
+            }
         }
         std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return depth[a] < depth[b]; });
         std::vector<int> new_index(n);
@@ -136,11 +151,11 @@ public:
     }
     const std::vector<joint<T>>& joints() const noexcept { return joints_; }
 
-    /// Index of the joint called name, if any.
+    /// Index of the joint called name, if any (a hash lookup).
     std::optional<std::size_t> find(std::string_view name) const {
-        for (std::size_t i = 0; i < joints_.size(); ++i)
-            if (joints_[i].name == name) return i;
-        return std::nullopt;
+        const auto it = by_name_.find(std::string(name));
+        if (it == by_name_.end()) return std::nullopt;
+        return it->second;
     }
     /// Index of the joint called name; throws anima::invalid_argument when absent.
     std::size_t index_of(std::string_view name) const {
@@ -245,6 +260,7 @@ private:
     std::vector<joint<T>> joints_;
     std::vector<int> translation_slot_;
     std::size_t translated_ = 0;
+    std::unordered_map<std::string, std::size_t> by_name_;  // joint name -> index
 };
 
 }  // namespace anima

@@ -139,7 +139,8 @@ Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, Eigen::Dynamic> seam_tar
     for (std::size_t s : list) {
         const std::size_t face = s - 1;
         const std::size_t lo = face >= radius ? face - radius : 0;
-        const std::size_t hi = std::min(face + radius, static_cast<std::size_t>(faces) - 1);
+        const std::size_t last = static_cast<std::size_t>(faces) - 1;  // no overflow for any radius
+        const std::size_t hi = radius >= last - face ? last : face + radius;
         for (std::size_t k = lo; k <= hi; ++k) replaced[k] = true;
     }
     for (Eigen::Index a = 0; a < faces;) {

@@ -8,12 +8,12 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/file_io.hpp>
 
 #include <Eigen/Core>
 
 #include <cmath>
 #include <cstddef>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -57,6 +57,23 @@ void check_finite_landmarks(const landmark_set<T>& s, const std::string& who, co
             throw invalid_argument(who + ": " + what + " " + std::to_string(k) + " is not finite");
 }
 
+/// Throws anima::invalid_argument naming `who` and the point unless every
+/// landmark lies on a width x height image: 0 <= x <= width, 0 <= y <= height
+/// (the image's area, edges included; a landmark may sit on a border pixel).
+template <class T>
+void check_landmarks_inside(const landmark_set<T>& s, Eigen::Index width, Eigen::Index height, const std::string& who) {
+    check_finite_landmarks(s, who);
+    for (Eigen::Index k = 0; k < s.rows(); ++k) {
+        const double x = static_cast<double>(s(k, 0)), y = static_cast<double>(s(k, 1));
+        if (!(x >= 0 && y >= 0 && x <= static_cast<double>(width) && y <= static_cast<double>(height))) {
+            std::ostringstream m;
+            m << who << ": landmark " << k << " (" << x << ", " << y << ") is outside the " << width << " x " << height
+              << " image";
+            throw invalid_argument(m.str());
+        }
+    }
+}
+
 /// Parses .pts text. `source` names it in errors. Throws
 /// anima::parse_error ("source:line: message") for a missing header line,
 /// a bad point count, a malformed or non-finite coordinate, a missing brace
@@ -85,6 +102,11 @@ landmark_set<T> parse_pts(const std::string& text, const std::string& source = "
         if (key != "n_points:" || !f || count <= 0 || count > 1000000)
             throw parse_error(source, line_no, "expected 'n_points: N' with N >= 1, found '" + line + "'");
     }
+    // A point line takes at least 4 bytes ("0 0" and a line end): check the
+    // count against the file before allocating.
+    if (static_cast<std::size_t>(count) > text.size() / 4 + 1)
+        throw parse_error(source, line_no, "n_points " + std::to_string(count) + " is more than the file's " +
+                                               std::to_string(text.size()) + " bytes can hold");
     next("'{'");
     if (line.find('{') == std::string::npos) throw parse_error(source, line_no, "expected '{', found '" + line + "'");
     landmark_set<T> out(count, 2);
@@ -110,15 +132,12 @@ landmark_set<T> parse_pts(const std::string& text, const std::string& source = "
     return out;
 }
 
-/// Reads a .pts file. Throws anima::io_error when it cannot be opened and
+/// Reads a .pts file. Throws anima::io_error when it cannot be read (missing,
+/// a folder) and
 /// anima::parse_error ("path:line: message") when it is malformed.
 template <class T>
 landmark_set<T> read_pts(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw io_error("anima::read_pts: cannot open '" + path + "'");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parse_pts<T>(text.str(), path);
+    return parse_pts<T>(read_file(path), path);
 }
 
 /// .pts text for a landmark set, every coordinate with enough digits to read back exactly.

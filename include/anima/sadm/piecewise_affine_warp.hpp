@@ -113,6 +113,10 @@ struct triangle_raster {
     }
 };
 
+/// The most pixels a triangle raster (and so a face model's reference frame)
+/// may have: 2^23, about 2900 x 2900, which needs about 235 MB in double.
+constexpr Eigen::Index max_raster_pixels = Eigen::Index{1} << 23;
+
 /// The pixels of a rows x cols raster that `shape`'s triangles cover.
 /// Throws anima::invalid_argument for a bad size, non-finite points or bad triangles.
 template <class T>
@@ -121,6 +125,10 @@ triangle_raster<T> rasterize_triangles(const landmark_set<T>& shape, const std::
     const std::string who = "anima::rasterize_triangles";
     if (rows <= 0 || cols <= 0)
         throw invalid_argument(who + ": the raster is " + std::to_string(rows) + " x " + std::to_string(cols));
+    if (rows > max_raster_pixels / cols)
+        throw invalid_argument(who + ": the raster is " + std::to_string(rows) + " x " + std::to_string(cols) +
+                               " pixels, more than the " + std::to_string(max_raster_pixels) +
+                               " allowed (anima::max_raster_pixels)");
     check_finite_landmarks(shape, who, "point");
     detail::check_triangles<T>(triangles, shape.rows(), who);
     std::vector<int> owner(static_cast<std::size_t>(rows * cols), -1);

@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <istream>
@@ -76,6 +77,9 @@ public:
             throw invalid_argument(who + ": needs at least 2 frames with one landmark set each, got " +
                                    std::to_string(images.size()) + " images and " + std::to_string(landmarks.size()) +
                                    " landmark sets");
+        for (std::size_t k = 0; k < images.size(); ++k)
+            check_landmarks_inside(landmarks[k], static_cast<Eigen::Index>(images[k].cols()),
+                                   static_cast<Eigen::Index>(images[k].rows()), who + ": frame " + std::to_string(k));
         shape_model<T> shape = shape_model<T>::fit(landmarks, options.shape);
         if (shape.size() == 0) throw invalid_argument(who + ": the landmark sets do not vary: no shape parameter");
         T scale = options.reference_scale;
@@ -168,13 +172,18 @@ public:
         const auto raster = reader.expect("raster");
         if (raster.size() != 2) reader.fail("'raster' takes rows and columns");
         const long rows = reader.parse_count(raster[0], "raster rows"), cols = reader.parse_count(raster[1], "raster columns");
+        if (rows < 1 || cols < 1 || rows > max_raster_pixels / cols)
+            reader.fail("raster " + std::to_string(rows) + " x " + std::to_string(cols) + " is outside 1.." +
+                        std::to_string(max_raster_pixels) + " pixels (anima::max_raster_pixels)");
         const Eigen::Index points = shape_pca.dimension() / 2;
         const landmark_set<T> reference = reader.read_matrix<T>("reference", points, 2);
         const auto tri_line = reader.expect("triangles");
         if (tri_line.size() != 2 || tri_line[1] != "3") reader.fail("'triangles' takes a count and 3");
         const long count = reader.parse_count(tri_line[0], "triangle count");
-        std::vector<triangle_indices> tris(static_cast<std::size_t>(count));
-        for (auto& t : tris) {
+        std::vector<triangle_indices> tris;
+        tris.reserve(static_cast<std::size_t>(std::min(count, 1L << 16)));  // the count is not trusted
+        for (long n = 0; n < count; ++n) {
+            triangle_indices& t = tris.emplace_back();
             const auto v = reader.next_tokens("a triangle");
             if (v.size() != 3) reader.fail("a triangle takes 3 point indices");
             for (int k = 0; k < 3; ++k) {

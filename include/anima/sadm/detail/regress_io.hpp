@@ -164,15 +164,19 @@ public:
         if (r != rows || c != cols)
             fail(std::string("'") + key + "' is " + std::to_string(r) + " x " + std::to_string(c) + ", expected " +
                  std::to_string(rows) + " x " + std::to_string(cols));
-        Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> m(rows, cols);
+        // The shape is not trusted to size memory: values are collected as
+        // the rows are read, so a file claiming more than it holds fails at
+        // its end rather than allocating first.
+        std::vector<T> values;
         for (Eigen::Index i = 0; i < rows; ++i) {
             const std::vector<std::string> row = next_tokens(key);
             if (static_cast<Eigen::Index>(row.size()) != cols)
                 fail(std::string("row ") + std::to_string(i) + " of '" + key + "' has " + std::to_string(row.size()) +
                      " values, expected " + std::to_string(cols));
-            for (Eigen::Index j = 0; j < cols; ++j) m(i, j) = parse_value<T>(row[static_cast<std::size_t>(j)], key);
+            for (Eigen::Index j = 0; j < cols; ++j) values.push_back(parse_value<T>(row[static_cast<std::size_t>(j)], key));
         }
-        return m;
+        return Eigen::Map<const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(values.data(), rows,
+                                                                                                   cols);
     }
 
 private:
