@@ -10,6 +10,8 @@
 #include <anima/motion/reorient.hpp>
 #include <anima/rotation/quaternion.hpp>
 
+#include "../test_support.hpp"
+
 #include <doctest/doctest.h>
 
 #include <Eigen/Core>
@@ -47,7 +49,7 @@ constexpr double half_unit = 5e-7 * (1 + 1e-9);
 
 std::string data_path(const char* name) { return std::string(ANIMA_TEST_DATA_DIR) + "/" + name; }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using anima_test::contains;
 bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
 
 // A temporary file path, removed when the guard goes out of scope.

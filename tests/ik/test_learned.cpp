@@ -206,12 +206,15 @@ TEST_CASE_TEMPLATE("learned model: save and load round trip, file errors with li
     };
     CHECK(parse_message("anima-learned-ik 2\n") == "m.txt:1: unsupported version (this build reads version 1)");
     CHECK(anima_test::contains(parse_message("anima-learned-ik 1\ndofs 3\n"), "m.txt:3: file ends"));
-    // Counts of two billion are not trusted to size memory: the file ends first.
-    CHECK(anima_test::contains(parse_message("anima-learned-ik 1\ndofs 2000000000\neffectors 1\neffector Hand 0 0 0\n"
-                                             "clusters 2000000000\ncentre 1 2\n"),
+    // Counts past the format's limit are refused where they stand; counts
+    // within it are not trusted to size memory: the file ends first.
+    CHECK(anima_test::contains(parse_message("anima-learned-ik 1\ndofs 2000000000\n"),
+                               "m.txt:2: expected a count between 0 and 1000000"));
+    CHECK(anima_test::contains(parse_message("anima-learned-ik 1\ndofs 1000000\neffectors 1\neffector Hand 0 0 0\n"
+                                             "clusters 1000000\ncentre 1 2\n"),
                                "m.txt:6: line ends"));
     CHECK(anima_test::contains(parse_message("anima-learned-ik 1\ndofs 2\neffectors 1\neffector Hand 0 0 0\n"
-                                             "clusters 2000000000\ncentre 1 2\nreach 1 2 3\ninverse 1 1 2 3\n"),
+                                             "clusters 1000000\ncentre 1 2\nreach 1 2 3\ninverse 1 1 2 3\n"),
                                "m.txt:8: line ends"));
     std::string text = out.str();
     const auto pos = text.find("centre ");
