@@ -35,14 +35,20 @@ int main(int argc, char** argv) {
         }
         std::printf("objective  %.4g -> %.4g (%d iterations, %s, %.2f s)\n", r.objective_initial, r.objective_final,
                     r.iterations, std::string(anima::to_string(r.status)).c_str(), r.seconds);
-        std::printf("angular momentum drift about the centre of mass  %.3f -> %.3f\n", r.momentum_drift_initial,
-                    r.momentum_drift_final);
+        // The drift is not defined when the mean angular momentum is zero; the
+        // somersault spins, so both are defined here.
+        const bool drift_defined = r.momentum_drift_initial && r.momentum_drift_final;
+        if (drift_defined)
+            std::printf("angular momentum drift about the centre of mass  %.3f -> %.3f\n", *r.momentum_drift_initial,
+                        *r.momentum_drift_final);
+        else
+            std::printf("angular momentum drift about the centre of mass  not defined\n");
 
         // The paper's trend: the tuck (keys 2..7) takes less time, the rest more.
         const double tuck_before = r.initial.times[7] - r.initial.times[2];
         const double tuck_after = r.optimized.times[7] - r.optimized.times[2];
         const bool trend = tuck_after < tuck_before && r.objective_final < r.objective_initial &&
-                           r.momentum_drift_final < r.momentum_drift_initial;
+                           drift_defined && *r.momentum_drift_final < *r.momentum_drift_initial;
         std::printf("tucked phase (keys 2-7)  %.3f s -> %.3f s\n", tuck_before, tuck_after);
 
         const auto out = anima::flight_clip(problem, r.optimized, sk, anima::default_metres_per_unit(sk), 1.0 / 60.0);
