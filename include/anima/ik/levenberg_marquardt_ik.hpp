@@ -184,7 +184,8 @@ optimize_result<T> lm_attempt(const kinematic_tree<T>& tree, const std::vector<i
                 }
                 if (!chart) tree.wrap(x);
                 linearise();
-                mu *= std::max(T(1) / T(3), T(1) - std::pow(T(2) * rho - T(1), 3));
+                const T c = T(2) * rho - T(1);
+                mu *= std::max(T(1) / T(3), T(1) - c * c * c);
                 mu = std::max(mu, tiny);
                 growth = T(2);
             }
