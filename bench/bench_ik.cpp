@@ -204,6 +204,14 @@ void BM_ik_anima_levenberg_marquardt(benchmark::State& state) {
         return anima::solve_ik_levenberg_marquardt(p.tree, g, q0, l);
     });
 }
+void BM_ik_anima_levenberg_marquardt_limits_in_step(benchmark::State& state) {
+    run_anima(state, true, [](const problem& p, const auto& g, const auto& q0) {
+        anima::levenberg_marquardt_ik_params<double> l;
+        l.ik = params_for(p);
+        l.limits_in_step = true;
+        return anima::solve_ik_levenberg_marquardt(p.tree, g, q0, l);
+    });
+}
 void BM_ik_anima_ccd_position_only(benchmark::State& state) {
     run_anima(state, false, [](const problem& p, const auto& g, const auto& q0) {
         auto prm = params_for(p);
@@ -278,6 +286,7 @@ BENCHMARK(BM_ik_anima_pinv)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMil
 BENCHMARK(BM_ik_anima_dls_adaptive)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_bfgs)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_levenberg_marquardt)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ik_anima_levenberg_marquardt_limits_in_step)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_ccd_position_only)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -106,6 +106,81 @@ TEST_CASE_TEMPLATE("7-DOF arm: every Jacobian rule and CCD reach random reachabl
     CHECK(lm >= trials - 1);
 }
 
+TEST_CASE_TEMPLATE("Levenberg-Marquardt: pose goals on the 7-DOF arm, sine attempts and limits inside the step", T, double,
+                   float) {
+    // Position and orientation of the tip, as in bench_ik: both ways of
+    // keeping the limits solve nearly all, never leave the limits, and
+    // report converged exactly when the errors are within tolerance.
+    const auto arm = anima_ik_test::seven_dof_arm<T>();
+    const auto tip = anima_ik_test::arm_tip<T>();
+    auto p = arm_params<T>();
+    p.tolerance = tolerance<T>(1.2e-5, 2e-5);
+    p.angle_tolerance = tolerance<T>(1e-5, 1e-4);
+    const int trials = 40;
+    const auto successes = [&](const levenberg_marquardt_ik_params<T>& pl) {
+        random_source rng(7);
+        int ok = 0;
+        for (int t = 0; t < trials; ++t) {
+            const auto goal_q = random_q(arm, rng);
+            const auto q0 = random_q(arm, rng);
+            ik_state<T> s;
+            arm.forward(goal_q, s);
+            auto g = pose_goal(std::size_t{6}, anima_ik_test::point_at(arm, goal_q, 6, tip), s.orientations[6], T(1.2));
+            g.offset = tip;
+            const auto r = solve_ik_levenberg_marquardt(arm, {g}, q0, pl);
+            CHECK(r.q.allFinite());
+            CHECK(arm.within_limits(r.q));
+            const bool within = r.max_position_error <= p.tolerance && r.max_angle_error <= p.angle_tolerance;
+            CHECK(r.converged() == within);
+            CHECK(r.attempts <= p.restarts + 1);
+            ok += r.converged();
+        }
+        return ok;
+    };
+    levenberg_marquardt_ik_params<T> pl;
+    pl.ik = p;
+    CHECK(successes(pl) >= trials - 1);
+    pl.limits_in_step = true;
+    CHECK(successes(pl) >= trials - 2);
+    pl.limits_in_step = false;
+    pl.polish_iterations = 0;
+    CHECK(successes(pl) >= trials * 3 / 4);
+    pl.stall_window = 0;
+    CHECK_THROWS_AS(successes(pl), anima::invalid_argument);
+    pl.stall_window = 6;
+    pl.stall_decrease = T(1);
+    CHECK_THROWS_AS(successes(pl), anima::invalid_argument);
+}
+
+TEST_CASE_TEMPLATE("Levenberg-Marquardt with the limits inside the step: closed form, limits, unreachable", T, double,
+                   float) {
+    // One hinge with the tip at (0, 0, 1) turning about y: a target at
+    // angle 0.5 is reached exactly; one at angle 1.2 past the limit 1 ends
+    // on the limit as the closest pose, not converged and never past it.
+    skeleton<T> sk;
+    sk.add_joint("a", -1, vec3<T>::Zero(), {channel::y_rotation});
+    kinematic_tree<T> tree(sk);
+    tree.set_hinge(0, vec3<T>::UnitY(), T(-1), T(1));
+    const vec3<T> tip(0, 0, 1);
+    levenberg_marquardt_ik_params<T> pl;
+    pl.ik.tolerance = tolerance<T>(1e-9, 1e-5);
+    pl.limits_in_step = true;
+    const ik_vector<T> q0 = ik_vector<T>::Zero(1);
+    const auto at = [&](T angle) { return vec3<T>(std::sin(angle), 0, std::cos(angle)); };
+    const auto inside = solve_ik_levenberg_marquardt(tree, {position_goal<T>(0, at(T(0.5)), tip)}, q0, pl);
+    CHECK(inside.converged());
+    CHECK(inside.q[0] == doctest::Approx(0.5).epsilon(tolerance<T>(1e-8, 1e-4)));
+    for (const bool in_step : {true, false}) {
+        pl.limits_in_step = in_step;
+        const auto past = solve_ik_levenberg_marquardt(tree, {position_goal<T>(0, at(T(1.2)), tip)}, q0, pl);
+        CHECK(!past.converged());
+        CHECK(past.q.allFinite());
+        CHECK(past.q[0] <= T(1));
+        CHECK(past.q[0] == doctest::Approx(1.0).epsilon(tolerance<T>(1e-6, 1e-4)));
+        CHECK(past.max_position_error == doctest::Approx(2 * std::sin(0.1)).epsilon(1e-3));
+    }
+}
+
 TEST_CASE_TEMPLATE("jacobian_inverse: square regular chain converges; a singular one says so", T, double, float) {
     // Base yaw, shoulder and elbow pitch: 3 DOFs for a 3D position.
     skeleton<T> sk;

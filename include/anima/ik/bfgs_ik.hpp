@@ -61,8 +61,9 @@ ik_result<T> solve_ik_bfgs(const kinematic_tree<T>& tree, std::vector<ik_goal<T>
     const T stop_value = detail::goal_stop_value(goals, prm.ik);
     bp.on_iteration = [&](int, T value) { return value > stop_value; };
 
-    return detail::solve_with_restarts(tree, goals, ik_vector<T>(q0), prm.ik, limits, prm.polish_iterations,
-                                       [&](const ik_vector<T>& u0) { return bfgs_minimize<T>(objective, u0, bp); });
+    return detail::solve_with_restarts(tree, goals, ik_vector<T>(q0), prm.ik, limits,
+                                       [&](const ik_vector<T>& u0) { return bfgs_minimize<T>(objective, u0, bp); },
+                                       detail::pseudo_inverse_polish(tree, goals, prm.ik, prm.polish_iterations));
 }
 
 }  // namespace anima

@@ -33,10 +33,15 @@ struct sine_limits {
     }
     bool is_boxed(int k) const { return boxed[static_cast<std::size_t>(k)]; }
     ik_vector<T> to_q(const ik_vector<T>& u) const {
-        ik_vector<T> q = u;
+        ik_vector<T> q;
+        to_q(u, q);
+        return q;
+    }
+    /// to_q into q (no allocation once q has the size).
+    void to_q(const ik_vector<T>& u, ik_vector<T>& q) const {
+        q = u;
         for (int k = 0; k < q.size(); ++k)
             if (is_boxed(k)) q[k] = (lo[k] + hi[k]) / T(2) + (hi[k] - lo[k]) / T(2) * std::sin(u[k]);
-        return q;
     }
     ik_vector<T> to_u(const ik_vector<T>& q) const {
         ik_vector<T> u = q;
@@ -65,21 +70,32 @@ T goal_stop_value(const std::vector<ik_goal<T>>& goals, const ik_params<T>& p) {
     return T(0.5) * enough * enough;
 }
 
+/// The polish of solve_with_restarts by up to `iterations` pseudo-inverse
+/// steps with the limits inside the step; an empty result (no errors) when
+/// `iterations` is 0.
+template <class T>
+auto pseudo_inverse_polish(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
+                           const ik_params<T>& params, int iterations) {
+    ik_params<T> polish = params;
+    polish.max_iterations = iterations;
+    polish.restarts = 0;
+    polish.null_space = {};
+    return [&tree, &goals, polish](const ik_vector<T>& q) {
+        return polish.max_iterations > 0 ? solve_ik(tree, goals, q, pseudo_inverse<T>{}, polish) : ik_result<T>{};
+    };
+}
+
 /// Runs `attempt(u0) -> optimize_result<T>` from q0, then from random poses
 /// while the goals are not met, and keeps the best pose. An attempt that
-/// ends outside the tolerances is polished by up to `polish_iterations`
-/// pseudo-inverse steps with the limits inside the step: near a limit the
+/// ends outside the tolerances is polished by `polish(q) -> ik_result<T>`
+/// (ignored when its errors are empty), e.g. pseudo_inverse_polish: near a limit the
 /// sine reparametrisation flattens the objective (dq/du -> 0) and the
 /// optimiser crawls, where the Newton step with the DOF's column removed
 /// converges at once.
-template <class T, class Attempt>
+template <class T, class Attempt, class Polish>
 ik_result<T> solve_with_restarts(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
                                  const ik_vector<T>& q0, const ik_params<T>& params, const sine_limits<T>& limits,
-                                 int polish_iterations, Attempt&& attempt) {
-    ik_params<T> polish = params;
-    polish.max_iterations = polish_iterations;
-    polish.restarts = 0;
-    polish.null_space = {};
+                                 Attempt&& attempt, Polish&& polish) {
     random_source rng(params.seed);
     ik_result<T> best;
     best.q = params.limits ? tree.clamp(q0) : q0;
@@ -97,14 +113,16 @@ ik_result<T> solve_with_restarts(const kinematic_tree<T>& tree, const std::vecto
         tree.wrap(trial.q);
         evaluate_ik(tree, goals, trial);
         T score = summarise(trial.errors, params).score;
-        if (score > T(1) && polish_iterations > 0) {
-            const auto p = solve_ik(tree, goals, trial.q, pseudo_inverse<T>{}, polish);
+        if (score > T(1)) {
+            ik_result<T> p = polish(trial.q);
             best.iterations += p.iterations;
-            const T polished = summarise(p.errors, params).score;
-            if (polished < score) {
-                score = polished;
-                trial.q = p.q;
-                trial.errors = p.errors;
+            if (!p.errors.empty()) {
+                const T polished = summarise(p.errors, params).score;
+                if (polished < score) {
+                    score = polished;
+                    trial.q = std::move(p.q);
+                    trial.errors = std::move(p.errors);
+                }
             }
         }
         stalled = res.status != optimize_status::max_iterations && res.status != optimize_status::stopped;
