@@ -7,7 +7,26 @@
 #include <string>
 #include <type_traits>
 
+#if defined(__SANITIZE_ADDRESS__)
+#define ANIMA_TEST_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define ANIMA_TEST_SANITIZED 1
+#endif
+#endif
+
 namespace anima_test {
+
+/// True in a build under AddressSanitizer. There, the few tests whose point
+/// is convergence of a long optimisation run every code path in a few
+/// iterations and leave the convergence checks to the optimised build: the
+/// sanitizers look at memory and undefined behaviour, which the later
+/// iterations do not add to, at 50-100x the run time.
+#ifdef ANIMA_TEST_SANITIZED
+inline constexpr bool sanitized_build = true;
+#else
+inline constexpr bool sanitized_build = false;
+#endif
 
 /// A file of examples/data.
 inline std::string bundled(const std::string& name) { return std::string(ANIMA_TEST_DATA_DIR) + "/" + name; }

@@ -34,25 +34,27 @@ TEST_CASE_TEMPLATE("somersault, model (2): tuck shortens, stretched phases lengt
     const auto model = anima::make_body_model(sk, {});
     const anima::flight_problem<T> problem(model, anima::somersault_keys(sk), anima::somersault_settings<T>());
     anima::flight_optimization_params<T> params;
-    params.solver.max_iterations = 40;
+    params.solver.max_iterations = anima_test::sanitized_build ? 3 : 40;
     int calls = 0;
     params.solver.on_iteration = [&](int, T) { return ++calls > 0; };
     const auto r = anima::optimize_flight(problem, params);
     REQUIRE(r.optimized.times.size() == 12);
     CHECK(calls == static_cast<int>(r.history.size()));
-    CHECK(r.objective_final < T(0.5) * r.objective_initial);
     check_monotone(r.history, r.objective_initial);
     CHECK(std::abs(r.history.back() - r.objective_final) <= tolerance<T>(1e-8, 1e-3) * r.objective_final);
     REQUIRE(r.momentum_drift_initial);
     REQUIRE(r.momentum_drift_final);
-    CHECK(*r.momentum_drift_final < *r.momentum_drift_initial);
     const auto& a = r.initial.times;
     const auto& b = r.optimized.times;
     CHECK(b.front() == a.front());
     CHECK(std::abs(b.back() - a.back()) < tolerance<T>(1e-12, 1e-5));
-    for (std::size_t k = 3; k <= 7; ++k) CHECK(b[k] - b[k - 1] < a[k] - a[k - 1]);  // tucked intervals
-    CHECK(b[1] - b[0] > a[1] - a[0]);                                                // take-off, stretched
-    for (std::size_t k = 9; k <= 11; ++k) CHECK(b[k] - b[k - 1] > a[k] - a[k - 1]);  // stretched, twisting
+    if (!anima_test::sanitized_build) {  // the convergence trends need the 40 iterations
+        CHECK(r.objective_final < T(0.5) * r.objective_initial);
+        CHECK(*r.momentum_drift_final < *r.momentum_drift_initial);
+        for (std::size_t k = 3; k <= 7; ++k) CHECK(b[k] - b[k - 1] < a[k] - a[k - 1]);  // tucked intervals
+        CHECK(b[1] - b[0] > a[1] - a[0]);                                                // take-off, stretched
+        for (std::size_t k = 9; k <= 11; ++k) CHECK(b[k] - b[k - 1] > a[k] - a[k - 1]);  // stretched, twisting
+    }
 
     // The sampled clip passes through the optimised key poses.
     const auto c = anima::flight_clip(problem, r.optimized, sk, anima::default_metres_per_unit(sk), T(0.02));
