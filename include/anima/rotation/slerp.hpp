@@ -19,6 +19,7 @@
 
 #include <anima/core/error.hpp>
 #include <anima/rotation/detail/angle_series.hpp>
+#include <anima/rotation/detail/lanes.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
@@ -36,17 +37,46 @@ enum class arc {
     as_given   ///< the great arc from a to b as they are (squad's inner blends)
 };
 
+/// The series of angle_series for tau^2 = q in every lane at once, for one
+/// y: Horner's rule over pairs of terms.
+template <class T, class L>
+L angle_series_lanes(const L& q, T y) {
+    constexpr int n = angle_series_terms<T>();
+    static constexpr angle_series_coefficients<T, n> s{};
+    L a = q * T(0) + T(1);
+    for (int i = (n % 2 == 0 ? n - 1 : n); i >= 1; i -= 2) {
+        const L w = (q * s.u[i] - s.v[i]) * y;
+        if (i + 1 <= n)
+            a = T(1) + w + (w * ((q * s.u[i + 1] - s.v[i + 1]) * y)) * a;
+        else
+            a = T(1) + w;
+    }
+    return a;
+}
+
 /// Slerp weights (k0 for a, k1 for b) of unit quaternions with a.b = d in
-/// [0, 1] (a hair above 1 is fine) and t in [0, 1]. Polynomial except for two
-/// square roots and one division.
+/// [0, 1] (a hair above 1 is fine) and t in [0, 1], multiplied by scale0 and
+/// scale1. Polynomial except for two square roots and one division; the two
+/// series run side by side in the lanes of one vector.
 template <class T>
-void slerp_weights(T d, T t, T& k0, T& k1) {
+void slerp_weights(T d, T t, T scale0, T scale1, T& k0, T& k1) {
+    using L = lanes<T>;
     const T c = cos_quarter_angle(d);
     const T y = c - T(1);
     const T tau1 = T(4) * t, tau0 = T(4) - tau1;  // 4 - 4t is exact for t >= 1/2
-    const T inv = T(1) / sin_over_sin_quarter(c);  // sin(theta / 4) / sin(theta)
-    k0 = tau0 * angle_series(tau0 * tau0, y) * inv;
-    k1 = tau1 * angle_series(tau1 * tau1, y) * inv;
+    T a0, a1;
+    if constexpr (lane_count<T> >= 2) {
+        const L a = angle_series_lanes(L{tau0 * tau0, tau1 * tau1}, y);
+        a0 = a[0];
+        a1 = a[1];
+    } else {
+        a0 = angle_series_lanes(L{tau0 * tau0}, y)[0];
+        a1 = angle_series_lanes(L{tau1 * tau1}, y)[0];
+    }
+    // k = tau sin(phi) S / sin(theta), sin(theta) / sin(phi) = 4c(2c^2 - 1), tau = 4t.
+    const T inv = T(1) / (c * (T(2) * c * c - T(1)));
+    k0 = (T(1) - t) * a0 * (inv * scale0);
+    k1 = t * a1 * (inv * scale1);
 }
 
 /// Where 1 - cos(theta) is small enough for the two-term series of the weights.
@@ -95,18 +125,22 @@ quat4<T> slerp_general(const quat4<T>& a_in, const quat4<T>& b_in, T t, arc mode
 /// it (enough for a caller that feeds it straight into another slerp, whose
 /// Newton step on the inputs absorbs that).
 template <class T>
-quat4<T> slerp4(const quat4<T>& a, const quat4<T>& b, T t, arc mode = arc::shortest,
+quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::shortest,
                 const char* who = "anima::slerp", bool unit_result = true) {
     constexpr T tolerance = near_unit_tolerance<T>();
-    const T na = dot4(a, a), nb = dot4(b, b), d = dot4(a, b);
-    const bool fast = std::abs(na - T(1)) <= tolerance && std::abs(nb - T(1)) <= tolerance && t >= T(0) &&
-                      t <= T(1) && (mode == arc::shortest || d >= T(0));
-    if (!fast) return slerp_general(a, b, t, mode, who);
+    const quat_lanes<T> a = to_lanes(a4), b = to_lanes(b4);
+    const T na = dot_lanes(a, a), nb = dot_lanes(b, b), d = dot_lanes(a, b);
+    // One test for the fast path: both inputs near unit length (NaN fails),
+    // t in [0, 1] (t (1 - t) >= 0 fails for NaN and infinities too), and for
+    // an arc as given an angle of at most 90 degrees.
+    const T d_min = mode == arc::shortest ? T(-2) : T(0);
+    if (!(std::abs(na - T(1)) + std::abs(nb - T(1)) <= tolerance && t * (T(1) - t) >= T(0) && d >= d_min))
+        return slerp_general(a4, b4, t, mode, who);
     // One Newton step towards 1/|q| from 1: the inputs' length error drops
     // from at most sqrt(eps)/4 to below eps. It is folded into the weights.
     const T ga = T(1.5) - T(0.5) * na, gb = T(1.5) - T(0.5) * nb;
     // Shorter arc: -b when a.b < 0, without a branch.
-    const T sign = mode == arc::shortest ? std::copysign(T(1), d) : T(1);
+    const T gbs = mode == arc::shortest ? std::copysign(gb, d) : gb;
     const T cos_theta = std::abs(d) * ga * gb;
     T k0, k1;
     const T y = cos_theta - T(1);
@@ -114,15 +148,15 @@ quat4<T> slerp4(const quat4<T>& a, const quat4<T>& b, T t, arc mode = arc::short
         // theta below about eps^(1/4): two terms of the series in cos(theta) - 1
         // itself are exact (the third is under 2 y^2 / 15 <= eps / 8), with no
         // square root or division. Nearly identical and nearly antipodal inputs.
-        const T s = T(1) - t;
-        k0 = s * (T(1) + (s * s - T(1)) * y / T(3));
-        k1 = t * (T(1) + (t * t - T(1)) * y / T(3));
+        const T s = T(1) - t, y3 = y * T(1.0L / 3);
+        k0 = (s + s * (s * s - T(1)) * y3) * ga;
+        k1 = (t + t * (t * t - T(1)) * y3) * gbs;
     } else {
-        slerp_weights(cos_theta, t, k0, k1);
+        slerp_weights(cos_theta, t, ga, gbs, k0, k1);
     }
-    const quat4<T> r = a * (k0 * ga) + b * (k1 * gb * sign);
-    if (!unit_result) return r;
-    return r * (T(1.5) - T(0.5) * dot4(r, r));  // and once more on the result
+    const quat_lanes<T> r = blend_lanes(a, k0, b, k1);
+    if (!unit_result) return from_lanes(r);
+    return from_lanes(scale_lanes(r, T(1.5) - T(0.5) * dot_lanes(r, r)));  // and once more on the result
 }
 
 }  // namespace detail
