@@ -342,3 +342,82 @@ TEST_CASE_TEMPLATE("slerp's worst angle error on mixed inputs is within GLM's ac
     CHECK(worst <= bound);
     CHECK(worst <= 2 * std::max(worst_glm, worst_eigen));
 }
+
+TEST_CASE_TEMPLATE("slerp's single fast-path test routes every other input to the general path", Q, ANIMA_QUAT_TYPES) {
+    // The fast path takes t in [0, 1] and inputs within sqrt(eps)/4 of unit
+    // squared length in one test; just outside it, results must still be a
+    // correct slerp (extrapolation, normalisation), and NaN or infinite t
+    // must throw rather than leak into the result.
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    rng r(40);
+    for (int i = 0; i < 100; ++i) {
+        const Q a = r.unit<Q>(), b = r.unit<Q>();
+        const lq pa = to_lq(a), pb = to_lq(b);
+        for (const T t : {std::nextafter(T(0), T(-1)), T(-0.0), std::nextafter(T(1), T(2)), T(-1e-3), T(1.001)}) {
+            CAPTURE(t);
+            const Q s = anima::slerp(a, b, t);
+            CHECK(norm_error(s) <= 2 * e);
+            CHECK(diff(s, ref_slerp(pa, pb, t)) <= 8 * e);
+        }
+        // Squared lengths 1 +- 0.6 sqrt(eps) each: either alone passes the
+        // test, together they do not; and 1 + sqrt(eps), far outside.
+        const ld step = 0.3L * std::sqrt(ld(e));
+        for (const ld grow : {1 + step, 1 - step, 1 + 2 * step, 1 - 2 * step}) {
+            for (const ld shrink : {1 + step, 1 - step, 1 + 2 * step}) {
+                const Q as = make<Q>(grow * pa.w, grow * pa.x, grow * pa.y, grow * pa.z);
+                const Q bs = make<Q>(shrink * pb.w, shrink * pb.x, shrink * pb.y, shrink * pb.z);
+                const T t = T(r.uniform(0, 1));
+                CAPTURE(grow);
+                CAPTURE(shrink);
+                const Q s = anima::slerp(as, bs, t);
+                CHECK(norm_error(s) <= 2 * e);
+                CHECK(diff(s, ref_slerp(unit(to_lq(as)), unit(to_lq(bs)), t)) <= 8 * e);
+            }
+        }
+        const T nan = std::numeric_limits<T>::quiet_NaN(), inf = std::numeric_limits<T>::infinity();
+        for (const T t : {nan, inf, -inf}) {
+            CHECK_THROWS_AS(anima::slerp(a, b, t), anima::invalid_argument);
+            CHECK_THROWS_AS(anima::squad(a, b, a, b, t), anima::invalid_argument);
+        }
+    }
+}
+
+TEST_CASE_TEMPLATE("slerp is exact at t = 0 and 1 and continuous across the switch to the series", Q,
+                   ANIMA_QUAT_TYPES) {
+    // The weights come from one of two series, chosen by 1 - cos(theta)
+    // against sqrt(eps) (theta the 4-vector angle). Angles on both sides of
+    // that switch, and the singular cases (identical, 1e-6 rad apart,
+    // antipodal, 1e-6 rad from antipodal), against a long double slerp.
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    const ld switch_angle = 4 * std::acos(1 - std::sqrt(ld(e)));  // rotation angle (twice the 4-vector angle)
+    rng r(41);
+    for (int i = 0; i < 50; ++i) {
+        const lq a = r.unit_lq();
+        const vec axis = r.unit_vector();
+        std::vector<lq> others{a, scale(a, -1)};
+        for (const ld angle : {1e-6L, switch_angle * (1 - 1e-3L), switch_angle, switch_angle * (1 + 1e-3L), 0.5L, 2.0L,
+                               pi - 1e-6L}) {
+            others.push_back(a * rot(angle, axis));
+            others.push_back(scale(a * rot(angle, axis), -1));
+        }
+        const Q qa = from_lq<Q>(a);
+        for (const lq& o : others) {
+            const Q qb = from_lq<Q>(o);
+            const Q s0 = anima::slerp(qa, qb, T(0)), s1 = anima::slerp(qa, qb, T(1));
+            CHECK(diff(s0, qa) <= 2 * e);
+            CHECK(diff(s1, anima::align_hemisphere(qb, qa)) <= 2 * e);
+            for (const T t : {T(1e-6), T(0.25), T(0.5), T(0.75), T(1) - T(1e-6)}) {
+                CAPTURE(t);
+                const Q s = anima::slerp(qa, qb, t);
+                const lq ref = ref_slerp(to_lq(qa), to_lq(qb), t);
+                REQUIRE(finite(s));
+                CHECK(norm_error(s) <= 2 * e);
+                CHECK(diff(s, ref) <= 4 * e);
+                // t is honoured at every angle: no early-out to a or b.
+                CHECK(angle_between(to_lq(s), ref) <= 4 * e);
+            }
+        }
+    }
+}

@@ -7,11 +7,15 @@
 // (two half-angle square roots, one division, no sine or arc cosine), or,
 // when 1 - cos(theta) is below sqrt(epsilon), from two terms of the series in
 // cos(theta) - 1 itself. Near theta = 0 the series are exact, so t is honoured
-// at every angle and identical inputs need no special case.
+// at every angle and identical inputs need no special case. The two series
+// (for t and 1 - t) are evaluated side by side in the lanes of one vector,
+// and the dot products and the blend run on the quaternion as a vector
+// (detail/lanes.hpp: GCC/Clang vector types, a plain array elsewhere).
 //
 // The fast path takes inputs within sqrt(epsilon)/4 of unit length (one
 // Newton step brings them to unit length inside the weights) and t in
-// [0, 1]. Anything else - extrapolation, quaternions far from unit length,
+// [0, 1], decided by one test on the sum of the two length errors and on
+// t (1 - t) >= 0, which NaN and infinities fail. Anything else - extrapolation, quaternions far from unit length,
 // zero or non-finite ones - goes to a general path that normalises with a
 // scaled norm, uses sines, and throws anima::invalid_argument for inputs that
 // are not rotations.
@@ -19,7 +23,6 @@
 
 #include <anima/core/error.hpp>
 #include <anima/rotation/detail/angle_series.hpp>
-#include <anima/rotation/detail/lanes.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
@@ -37,23 +40,6 @@ enum class arc {
     as_given   ///< the great arc from a to b as they are (squad's inner blends)
 };
 
-/// The series of angle_series for tau^2 = q in every lane at once, for one
-/// y: Horner's rule over pairs of terms.
-template <class T, class L>
-L angle_series_lanes(const L& q, T y) {
-    constexpr int n = angle_series_terms<T>();
-    static constexpr angle_series_coefficients<T, n> s{};
-    L a = q * T(0) + T(1);
-    for (int i = (n % 2 == 0 ? n - 1 : n); i >= 1; i -= 2) {
-        const L w = (q * s.u[i] - s.v[i]) * y;
-        if (i + 1 <= n)
-            a = T(1) + w + (w * ((q * s.u[i + 1] - s.v[i + 1]) * y)) * a;
-        else
-            a = T(1) + w;
-    }
-    return a;
-}
-
 /// Slerp weights (k0 for a, k1 for b) of unit quaternions with a.b = d in
 /// [0, 1] (a hair above 1 is fine) and t in [0, 1], multiplied by scale0 and
 /// scale1. Polynomial except for two square roots and one division; the two
@@ -66,12 +52,12 @@ void slerp_weights(T d, T t, T scale0, T scale1, T& k0, T& k1) {
     const T tau1 = T(4) * t, tau0 = T(4) - tau1;  // 4 - 4t is exact for t >= 1/2
     T a0, a1;
     if constexpr (lane_count<T> >= 2) {
-        const L a = angle_series_lanes(L{tau0 * tau0, tau1 * tau1}, y);
+        const L a = angle_series_lanes<T>(L{tau0 * tau0, tau1 * tau1}, y);
         a0 = a[0];
         a1 = a[1];
     } else {
-        a0 = angle_series_lanes(L{tau0 * tau0}, y)[0];
-        a1 = angle_series_lanes(L{tau1 * tau1}, y)[0];
+        a0 = angle_series_lanes<T>(L{tau0 * tau0}, y)[0];
+        a1 = angle_series_lanes<T>(L{tau1 * tau1}, y)[0];
     }
     // k = tau sin(phi) S / sin(theta), sin(theta) / sin(phi) = 4c(2c^2 - 1), tau = 4t.
     const T inv = T(1) / (c * (T(2) * c * c - T(1)));

@@ -34,11 +34,10 @@ Q squad_control_point(const Q& prev, const Q& q, const Q& next) {
     // is at most pi in length: the polynomial log and exp of angle_series.hpp
     // cover them without an arc tangent, sine or cosine.
     const auto ci = detail::conj4(c);
-    T ax, ay, az, bx, by, bz;
-    detail::log_unit_right_half(ci * n, ax, ay, az);
-    detail::log_unit_right_half(ci * p, bx, by, bz);
+    T a[3], b[3];
+    detail::log_unit_right_half_pair(ci * n, ci * p, a, b);
     const T k = T(-0.25);
-    return detail::store<Q>(c * detail::exp_pure_quarter_turn(k * (ax + bx), k * (ay + by), k * (az + bz)));
+    return detail::store<Q>(c * detail::exp_pure_quarter_turn(k * (a[0] + b[0]), k * (a[1] + b[1]), k * (a[2] + b[2])));
 }
 
 namespace detail {

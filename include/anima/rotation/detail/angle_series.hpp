@@ -16,6 +16,7 @@
 // the factor of a quaternion logarithm. Near theta = 0 the series is exact.
 #pragma once
 
+#include <anima/rotation/detail/lanes.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 
 #include <cmath>
@@ -72,6 +73,23 @@ T angle_series(T sq, T y) {
     return a;
 }
 
+/// The series of angle_series in every lane at once: tau^2 = q per lane, y
+/// one scalar for all lanes (Y = T) or one per lane (Y = L).
+template <class T, class L, class Y>
+L angle_series_lanes(const L& q, const Y& y) {
+    constexpr int n = angle_series_terms<T>();
+    static constexpr angle_series_coefficients<T, n> s{};
+    L a = q * T(0) + T(1);
+    for (int i = (n % 2 == 0 ? n - 1 : n); i >= 1; i -= 2) {
+        const L w = (q * s.u[i] - s.v[i]) * y;
+        if (i + 1 <= n)
+            a = T(1) + w + (w * ((q * s.u[i + 1] - s.v[i + 1]) * y)) * a;
+        else
+            a = T(1) + w;
+    }
+    return a;
+}
+
 /// Vector part of log of a unit quaternion with w >= 0 (rotation angle at
 /// most 180 degrees): theta * axis, theta = atan2(|v|, w) <= pi/2, without
 /// an arc tangent. w a hair below 0 is fine.
@@ -82,6 +100,30 @@ void log_unit_right_half(const quat4<T>& q, T& vx, T& vy, T& vz) {
     vx = k * q.x;
     vy = k * q.y;
     vz = k * q.z;
+}
+
+/// log_unit_right_half of two quaternions at once, the series and the
+/// division in the lanes of one vector.
+template <class T>
+void log_unit_right_half_pair(const quat4<T>& p, const quat4<T>& q, T (&vp)[3], T (&vq)[3]) {
+    using L = lanes<T>;
+    T kp, kq;
+    if constexpr (lane_count<T> >= 2) {
+        const L c{cos_quarter_angle(p.w), cos_quarter_angle(q.w)};
+        const L k = angle_series_lanes<T>(c * T(0), c - T(1)) / (c * (T(2) * c * c - T(1)));
+        kp = k[0];
+        kq = k[1];
+    } else {
+        const T cp = cos_quarter_angle(p.w), cq = cos_quarter_angle(q.w);
+        kp = angle_series(T(0), cp - T(1)) / (cp * (T(2) * cp * cp - T(1)));
+        kq = angle_series(T(0), cq - T(1)) / (cq * (T(2) * cq * cq - T(1)));
+    }
+    vp[0] = kp * p.x;
+    vp[1] = kp * p.y;
+    vp[2] = kp * p.z;
+    vq[0] = kq * q.x;
+    vq[1] = kq * q.y;
+    vq[2] = kq * q.z;
 }
 
 /// exp of a pure quaternion (0, v) with |v| <= pi/2 by Taylor polynomials in

@@ -15,7 +15,7 @@
 
 namespace anima::detail {
 
-/// N values of T with lane-wise +, - and * (also with a scalar on either side).
+/// N values of T with lane-wise +, -, * and / (+, -, * also with a scalar).
 template <class T, int N>
 struct lane_array {
     T v[N];
@@ -41,6 +41,9 @@ struct lane_array {
     }
     friend lane_array operator*(const lane_array& a, const lane_array& b) {
         return apply(a, b, [](T x, T y) { return x * y; });
+    }
+    friend lane_array operator/(const lane_array& a, const lane_array& b) {
+        return apply(a, b, [](T x, T y) { return x / y; });
     }
     friend lane_array operator+(const lane_array& a, T s) { return a + all(s); }
     friend lane_array operator+(T s, const lane_array& a) { return all(s) + a; }

@@ -11,6 +11,7 @@
 #include <anima/core/scalar_value.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
+#include <array>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
@@ -146,6 +147,18 @@ quat4<T> unit_or_throw(const quat4<T>& q, const char* who) {
     const T n2 = dot4(q, q);
     if (std::abs(n2 - T(1)) <= near_unit_tolerance<T>()) return q * (T(1.5) - T(0.5) * n2);
     return normalized_or_throw(q, who);
+}
+
+/// Row-major rotation matrix of a unit quaternion, for any scalar (the flight
+/// objective runs it on AutoDiff scalars).
+template <class T>
+std::array<std::array<T, 3>, 3> to_matrix(const quat4<T>& q) {
+    const T xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+    const T xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
+    const T wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+    return {{{T(1) - T(2) * (yy + zz), T(2) * (xy - wz), T(2) * (xz + wy)},
+             {T(2) * (xy + wz), T(1) - T(2) * (xx + zz), T(2) * (yz - wx)},
+             {T(2) * (xz - wy), T(2) * (yz + wx), T(1) - T(2) * (xx + yy)}}};
 }
 
 /// cos(a) and sin(a)/a from a^2, for any scalar S including
