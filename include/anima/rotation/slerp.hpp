@@ -40,29 +40,33 @@ enum class arc {
     as_given   ///< the great arc from a to b as they are (squad's inner blends)
 };
 
-/// Slerp weights (k0 for a, k1 for b) of unit quaternions with a.b = d in
-/// [0, 1] (a hair above 1 is fine) and t in [0, 1], multiplied by scale0 and
-/// scale1. Polynomial except for two square roots and one division; the two
-/// series run side by side in the lanes of one vector.
-template <class T>
-void slerp_weights(T d, T t, T scale0, T scale1, T& k0, T& k1) {
-    using L = lanes<T>;
-    const T c = cos_quarter_angle(d);
-    const T y = c - T(1);
+/// Slerp weights (k0[m] for a, k1[m] for b) of M pairs of unit quaternions
+/// with a.b = d[m] in [0, 1] (a hair above 1 is fine), all at the same t in
+/// [0, 1]. Polynomial except for two square roots and one division per
+/// pair; the 2M series (t and 1 - t for each pair) run side by side in the
+/// lanes of as few vectors as hold them (one for up to two pairs of floats,
+/// one per pair of doubles). Exact as the angle tends to 0.
+template <class T, int M>
+void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[M]) {
+    constexpr int width = lane_count<T>, vectors = (2 * M + width - 1) / width;
     const T tau1 = T(4) * t, tau0 = T(4) - tau1;  // 4 - 4t is exact for t >= 1/2
-    T a0, a1;
-    if constexpr (lane_count<T> >= 2) {
-        const L a = angle_series_lanes<T>(L{tau0 * tau0, tau1 * tau1}, y);
-        a0 = a[0];
-        a1 = a[1];
-    } else {
-        a0 = angle_series_lanes<T>(L{tau0 * tau0}, y)[0];
-        a1 = angle_series_lanes<T>(L{tau1 * tau1}, y)[0];
+    T c[M], q[vectors * width]{}, y[vectors * width]{}, s[vectors * width]{};
+    for (int m = 0; m < M; ++m) {
+        c[m] = cos_quarter_angle(d[m]);
+        q[2 * m] = tau0 * tau0;
+        q[2 * m + 1] = tau1 * tau1;
+        y[2 * m] = y[2 * m + 1] = c[m] - T(1);
     }
-    // k = tau sin(phi) S / sin(theta), sin(theta) / sin(phi) = 4c(2c^2 - 1), tau = 4t.
-    const T inv = T(1) / (c * (T(2) * c * c - T(1)));
-    k0 = (T(1) - t) * a0 * (inv * scale0);
-    k1 = t * a1 * (inv * scale1);
+    for (int v = 0; v < vectors; ++v) {
+        const lanes<T> r = angle_series_lanes<T>(load_lanes(q + v * width), load_lanes(y + v * width));
+        for (int i = 0; i < width; ++i) s[v * width + i] = r[i];
+    }
+    for (int m = 0; m < M; ++m) {
+        // k = tau sin(phi) S / sin(theta), sin(theta) / sin(phi) = 4c(2c^2 - 1), tau = 4t.
+        const T inv = T(1) / (c[m] * (T(2) * c[m] * c[m] - T(1)));
+        k0[m] = (T(1) - t) * s[2 * m] * inv;
+        k1[m] = t * s[2 * m + 1] * inv;
+    }
 }
 
 /// Where 1 - cos(theta) is small enough for the two-term series of the weights.
@@ -135,14 +139,23 @@ quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::sho
         // itself are exact (the third is under 2 y^2 / 15 <= eps / 8), with no
         // square root or division. Nearly identical and nearly antipodal inputs.
         const T s = T(1) - t, y3 = y * T(1.0L / 3);
-        k0 = (s + s * (s * s - T(1)) * y3) * ga;
-        k1 = (t + t * (t * t - T(1)) * y3) * gbs;
+        k0 = s + s * (s * s - T(1)) * y3;
+        k1 = t + t * (t * t - T(1)) * y3;
     } else {
-        slerp_weights(cos_theta, t, ga, gbs, k0, k1);
+        T w0[1], w1[1];
+        slerp_weights<T, 1>({cos_theta}, t, w0, w1);
+        k0 = w0[0];
+        k1 = w1[0];
     }
-    const quat_lanes<T> r = blend_lanes(a, k0, b, k1);
-    if (!unit_result) return from_lanes(r);
-    return from_lanes(scale_lanes(r, T(1.5) - T(0.5) * dot_lanes(r, r)));  // and once more on the result
+    if (unit_result) {
+        // |k0 a + k1 b|^2 for unit a, b, from the weights: one Newton step
+        // towards its inverse square root takes out the weights' rounding
+        // without a dot product of the result.
+        const T g = T(1.5) - T(0.5) * (k0 * k0 + k1 * k1 + T(2) * k0 * k1 * cos_theta);
+        k0 *= g;
+        k1 *= g;
+    }
+    return from_lanes(blend_lanes(a, k0 * ga, b, k1 * gbs));
 }
 
 }  // namespace detail

@@ -73,13 +73,28 @@ T angle_series(T sq, T y) {
     return a;
 }
 
+/// The coefficients u_i, v_i of angle_series in every lane of a vector.
+template <class T, int N>
+struct angle_series_lane_coefficients {
+    lanes<T> u[N + 1]{};
+    lanes<T> v[N + 1]{};
+    constexpr angle_series_lane_coefficients() {
+        for (int i = 1; i <= N; ++i) {
+            u[i] = splat(T(1) / T(i * (2 * i + 1)));
+            v[i] = splat(T(i) / T(2 * i + 1));
+        }
+    }
+};
+
 /// The series of angle_series in every lane at once: tau^2 = q per lane, y
-/// one scalar for all lanes (Y = T) or one per lane (Y = L).
-template <class T, class L, class Y>
-L angle_series_lanes(const L& q, const Y& y) {
+/// one scalar for all lanes (Y = T) or one per lane (Y = lanes<T>). Horner's
+/// rule over pairs of terms, as in angle_series.
+template <class T, class Y>
+lanes<T> angle_series_lanes(const lanes<T>& q, const Y& y) {
+    using L = lanes<T>;
     constexpr int n = angle_series_terms<T>();
-    static constexpr angle_series_coefficients<T, n> s{};
-    L a = q * T(0) + T(1);
+    static constexpr angle_series_lane_coefficients<T, n> s{};
+    L a = splat(T(1));
     for (int i = (n % 2 == 0 ? n - 1 : n); i >= 1; i -= 2) {
         const L w = (q * s.u[i] - s.v[i]) * y;
         if (i + 1 <= n)
@@ -88,18 +103,6 @@ L angle_series_lanes(const L& q, const Y& y) {
             a = T(1) + w;
     }
     return a;
-}
-
-/// Vector part of log of a unit quaternion with w >= 0 (rotation angle at
-/// most 180 degrees): theta * axis, theta = atan2(|v|, w) <= pi/2, without
-/// an arc tangent. w a hair below 0 is fine.
-template <class T>
-void log_unit_right_half(const quat4<T>& q, T& vx, T& vy, T& vz) {
-    const T c = cos_quarter_angle(q.w);
-    const T k = T(4) * angle_series(T(0), c - T(1)) / sin_over_sin_quarter(c);  // theta / sin(theta)
-    vx = k * q.x;
-    vy = k * q.y;
-    vz = k * q.z;
 }
 
 /// log_unit_right_half of two quaternions at once, the series and the
@@ -126,20 +129,47 @@ void log_unit_right_half_pair(const quat4<T>& p, const quat4<T>& q, T (&vp)[3], 
     vq[2] = kq * q.z;
 }
 
-/// exp of a pure quaternion (0, v) with |v| <= pi/2 by Taylor polynomials in
-/// |v|^2 (float: 8 terms, double: 12; the first omitted term is below
-/// epsilon at pi/2); larger |v| go to exp_pure.
+/// Taylor coefficients of cos a and sin(a)/a in a^2, in lanes 0 and 1:
+/// cos a = 1 - a^2 c_1 (1 - a^2 c_2 (...)), c_i = 1/((2i-1) 2i), and the
+/// same for sin(a)/a with 1/(2i (2i+1)).
+template <class T, int N>
+struct cos_sinc_coefficients {
+    lanes<T> ck[N]{};
+    constexpr cos_sinc_coefficients() {
+        for (int i = 1; i < N; ++i) {
+            T both[lane_count<T> < 2 ? 2 : lane_count<T>]{};
+            both[0] = T(1) / T((2 * i - 1) * (2 * i));
+            both[1] = T(1) / T((2 * i) * (2 * i + 1));
+            if constexpr (lane_count<T> == 4)
+                ck[i] = lanes<T>{both[0], both[1], both[0], both[1]};
+            else if constexpr (lane_count<T> == 2)
+                ck[i] = lanes<T>{both[0], both[1]};
+        }
+    }
+};
+
+/// exp of a pure quaternion (0, v) with |v| <= pi/4, the largest argument
+/// squad_control_point meets, by Taylor polynomials in |v|^2 (float: 5
+/// terms, double: 9; the first omitted term is below epsilon / 4 at pi/4),
+/// cos and sin(a)/a side by side in two lanes. Larger |v| go to exp_pure.
 template <class T>
-quat4<T> exp_pure_quarter_turn(T vx, T vy, T vz) {
-    constexpr int n = std::numeric_limits<T>::digits <= 24 ? 8 : std::numeric_limits<T>::digits <= 53 ? 12 : 15;
+quat4<T> exp_pure_eighth_turn(T vx, T vy, T vz) {
+    constexpr int n = std::numeric_limits<T>::digits <= 24 ? 5 : std::numeric_limits<T>::digits <= 53 ? 9 : 12;
     const T a2 = vx * vx + vy * vy + vz * vz;
-    if (!(a2 <= T(2.4674011002723395)))  // (pi/2)^2
+    if (!(a2 <= T(0.61685027506808491)))  // (pi/4)^2
         return exp_pure(vx, vy, vz);
-    // cos a = sum (-1)^i a^2i / (2i)!, sin a / a = sum (-1)^i a^2i / (2i+1)!, by Horner's rule.
     T c = T(1), k = T(1);
-    for (int i = n - 1; i >= 1; --i) {
-        c = T(1) - a2 * (T(1) / T((2 * i - 1) * (2 * i))) * c;
-        k = T(1) - a2 * (T(1) / T((2 * i) * (2 * i + 1))) * k;
+    if constexpr (lane_count<T> >= 2) {
+        static constexpr cos_sinc_coefficients<T, n> s{};
+        lanes<T> ck = splat(T(1));
+        for (int i = n - 1; i >= 1; --i) ck = T(1) - (s.ck[i] * a2) * ck;
+        c = ck[0];
+        k = ck[1];
+    } else {
+        for (int i = n - 1; i >= 1; --i) {
+            c = T(1) - a2 * (T(1) / T((2 * i - 1) * (2 * i))) * c;
+            k = T(1) - a2 * (T(1) / T((2 * i) * (2 * i + 1))) * k;
+        }
     }
     return {c, k * vx, k * vy, k * vz};
 }

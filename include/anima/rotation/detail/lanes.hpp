@@ -48,6 +48,7 @@ struct lane_array {
     friend lane_array operator+(const lane_array& a, T s) { return a + all(s); }
     friend lane_array operator+(T s, const lane_array& a) { return all(s) + a; }
     friend lane_array operator-(const lane_array& a, T s) { return a - all(s); }
+    friend lane_array operator-(T s, const lane_array& a) { return all(s) - a; }
     friend lane_array operator*(const lane_array& a, T s) { return a * all(s); }
     friend lane_array operator*(T s, const lane_array& a) { return all(s) * a; }
 };
@@ -72,8 +73,31 @@ inline constexpr int lane_count = sizeof(T) < 16 ? static_cast<int>(16 / sizeof(
 template <class T>
 using lanes = typename lanes_of<T, lane_count<T>>::type;
 
+/// s in every lane, usable in constant expressions.
+template <class T>
+constexpr lanes<T> splat(T s) {
+    if constexpr (lane_count<T> == 4)
+        return lanes<T>{s, s, s, s};
+    else if constexpr (lane_count<T> == 2)
+        return lanes<T>{s, s};
+    else
+        return lanes<T>{s};
+}
+
+/// The lanes p[0 .. lane_count - 1].
+template <class T>
+lanes<T> load_lanes(const T* p) {
+    if constexpr (lane_count<T> == 4)
+        return lanes<T>{p[0], p[1], p[2], p[3]};
+    else if constexpr (lane_count<T> == 2)
+        return lanes<T>{p[0], p[1]};
+    else
+        return lanes<T>{p[0]};
+}
+
 /// A quaternion spread over 16-byte lanes: one vector of four floats, two of
-/// two doubles. The component order (w, x, y, z) is kept.
+/// two doubles. The lanes hold (x, y, z, w), the order in which GLM and
+/// Eigen store their quaternions, so loading and storing need no shuffle.
 template <class T>
 struct quat_lanes {
     static constexpr int width = lane_count<T>;
@@ -85,21 +109,21 @@ template <class T>
 quat_lanes<T> to_lanes(const quat4<T>& q) {
     using L = lanes<T>;
     if constexpr (lane_count<T> == 4)
-        return {{L{q.w, q.x, q.y, q.z}}};
+        return {{L{q.x, q.y, q.z, q.w}}};
     else if constexpr (lane_count<T> == 2)
-        return {{L{q.w, q.x}, L{q.y, q.z}}};
+        return {{L{q.x, q.y}, L{q.z, q.w}}};
     else
-        return {{L{q.w}, L{q.x}, L{q.y}, L{q.z}}};
+        return {{L{q.x}, L{q.y}, L{q.z}, L{q.w}}};
 }
 
 template <class T>
 quat4<T> from_lanes(const quat_lanes<T>& q) {
     if constexpr (lane_count<T> == 4)
-        return {q.p[0][0], q.p[0][1], q.p[0][2], q.p[0][3]};
+        return {q.p[0][3], q.p[0][0], q.p[0][1], q.p[0][2]};
     else if constexpr (lane_count<T> == 2)
-        return {q.p[0][0], q.p[0][1], q.p[1][0], q.p[1][1]};
+        return {q.p[1][1], q.p[0][0], q.p[0][1], q.p[1][0]};
     else
-        return {q.p[0][0], q.p[1][0], q.p[2][0], q.p[3][0]};
+        return {q.p[3][0], q.p[0][0], q.p[1][0], q.p[2][0]};
 }
 
 /// a.b of two quaternions in lanes.
