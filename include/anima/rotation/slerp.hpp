@@ -3,22 +3,25 @@
 // How it is computed. For unit inputs at 4-vector angle theta (cos theta =
 // a.b >= 0 after the shortest-arc flip) the result is k0 a + k1 b with
 // k1 = sin(t theta) / sin(theta) and k0 the same with 1 - t. Both weights
-// come from the power series of detail/angle_series.hpp in cos(theta/4) - 1
-// (two half-angle square roots, one division, no sine or arc cosine), or,
-// when 1 - cos(theta) is below sqrt(epsilon), from two terms of the series in
-// cos(theta) - 1 itself. Near theta = 0 the series are exact, so t is honoured
-// at every angle and identical inputs need no special case. The two series
-// (for t and 1 - t) are evaluated side by side in the lanes of one vector,
-// and the dot products and the blend run on the quaternion as a vector
-// (detail/lanes.hpp: GCC/Clang vector types, a plain array elsewhere).
+// come from the power series of detail/angle_series.hpp, with no sine or arc
+// cosine: when 1 - cos(theta) is below sqrt(epsilon), two terms of the
+// series in cos(theta) - 1; below 0.2, more terms of the same series (7 in
+// float, 16 in double); above, the series in cos(theta/4) - 1 (two
+// half-angle square roots, one division, 5 or 10 terms). Near theta = 0 the
+// series are exact, so t is honoured at every angle and identical inputs
+// need no special case. The series for t and 1 - t are evaluated side by
+// side in the lanes of one vector, and the dot products and the blend run on
+// the quaternion as a vector (detail/lanes.hpp: GCC/Clang vector types, a
+// plain array elsewhere). The result's length is corrected from the weights
+// (|k0 a + k1 b|^2 = k0^2 + k1^2 + 2 k0 k1 cos(theta)), by one Newton step.
 //
 // The fast path takes inputs within sqrt(epsilon)/4 of unit length (one
 // Newton step brings them to unit length inside the weights) and t in
 // [0, 1], decided by one test on the sum of the two length errors and on
-// t (1 - t) >= 0, which NaN and infinities fail. Anything else - extrapolation, quaternions far from unit length,
-// zero or non-finite ones - goes to a general path that normalises with a
-// scaled norm, uses sines, and throws anima::invalid_argument for inputs that
-// are not rotations.
+// t (1 - t) >= 0, which NaN and infinities fail. Anything else - extrapolation,
+// quaternions far from unit length, zero or non-finite ones - goes to a
+// general path that normalises with a scaled norm, uses sines, and throws
+// anima::invalid_argument for inputs that are not rotations.
 #pragma once
 
 #include <anima/core/error.hpp>
@@ -42,15 +45,38 @@ enum class arc {
 
 /// Slerp weights (k0[m] for a, k1[m] for b) of M pairs of unit quaternions
 /// with a.b = d[m] in [0, 1] (a hair above 1 is fine), all at the same t in
-/// [0, 1]. Polynomial except for two square roots and one division per
-/// pair; the 2M series (t and 1 - t for each pair) run side by side in the
+/// [0, 1]. The 2M series (t and 1 - t for each pair) run side by side in the
 /// lanes of as few vectors as hold them (one for up to two pairs of floats,
-/// one per pair of doubles). Exact as the angle tends to 0.
+/// one per pair of doubles). When every 1 - d[m] is below
+/// direct_series_limit the series in d - 1 itself is short enough: no square
+/// root or division. Otherwise the angle is quartered first (two square roots
+/// and one division per pair). Exact as the angle tends to 0.
 template <class T, int M>
-void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[M]) {
+inline void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[M]) {
     constexpr int width = lane_count<T>, vectors = (2 * M + width - 1) / width;
+    T q[vectors * width]{}, y[vectors * width]{}, s[vectors * width]{};
+    bool direct = true;
+    for (int m = 0; m < M; ++m) direct = direct && T(1) - d[m] <= direct_series_limit<T>();
+    if (direct) {
+        const T t0 = T(1) - t;
+        for (int m = 0; m < M; ++m) {
+            q[2 * m] = t0 * t0;
+            q[2 * m + 1] = t * t;
+            y[2 * m] = y[2 * m + 1] = d[m] - T(1);
+        }
+        for (int v = 0; v < vectors; ++v) {
+            const lanes<T> r = angle_series_lanes<T, direct_series_terms<T>()>(load_lanes(q + v * width),
+                                                                             load_lanes(y + v * width));
+            for (int i = 0; i < width; ++i) s[v * width + i] = r[i];
+        }
+        for (int m = 0; m < M; ++m) {
+            k0[m] = t0 * s[2 * m];
+            k1[m] = t * s[2 * m + 1];
+        }
+        return;
+    }
     const T tau1 = T(4) * t, tau0 = T(4) - tau1;  // 4 - 4t is exact for t >= 1/2
-    T c[M], q[vectors * width]{}, y[vectors * width]{}, s[vectors * width]{};
+    T c[M];
     for (int m = 0; m < M; ++m) {
         c[m] = cos_quarter_angle(d[m]);
         q[2 * m] = tau0 * tau0;
@@ -115,7 +141,7 @@ quat4<T> slerp_general(const quat4<T>& a_in, const quat4<T>& b_in, T t, arc mode
 /// it (enough for a caller that feeds it straight into another slerp, whose
 /// Newton step on the inputs absorbs that).
 template <class T>
-quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::shortest,
+inline quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::shortest,
                 const char* who = "anima::slerp", bool unit_result = true) {
     constexpr T tolerance = near_unit_tolerance<T>();
     const quat_lanes<T> a = to_lanes(a4), b = to_lanes(b4);
@@ -129,8 +155,8 @@ quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::sho
     // One Newton step towards 1/|q| from 1: the inputs' length error drops
     // from at most sqrt(eps)/4 to below eps. It is folded into the weights.
     const T ga = T(1.5) - T(0.5) * na, gb = T(1.5) - T(0.5) * nb;
-    // Shorter arc: -b when a.b < 0, without a branch.
-    const T gbs = mode == arc::shortest ? std::copysign(gb, d) : gb;
+    // Shorter arc: -b when a.b < 0 (a select, not a branch).
+    const T gbs = mode == arc::shortest && d < T(0) ? -gb : gb;
     const T cos_theta = std::abs(d) * ga * gb;
     T k0, k1;
     const T y = cos_theta - T(1);
@@ -168,7 +194,7 @@ quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::sho
 /// 1e200 components work); the result is a unit quaternion. Throws
 /// anima::invalid_argument for a zero or non-finite quaternion or t.
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
-Q slerp(const Q& a, const Q& b, quat_scalar_t<Q> t) {
+inline Q slerp(const Q& a, const Q& b, quat_scalar_t<Q> t) {
     return detail::store<Q>(detail::slerp4(detail::load(a), detail::load(b), t));
 }
 

@@ -24,6 +24,23 @@
 
 namespace anima::detail {
 
+/// The same series taken directly in y = cos(theta) - 1 (no halving of the
+/// angle, tau = t in [0, 1] or 0 for a logarithm) needs no square root or
+/// division. Term i is at most v_1 ... v_i |y|^i (|tau^2 u_i - v_i| <= v_i),
+/// so with these many terms and -y up to direct_series_limit the first
+/// omitted one is below epsilon / 8: float 7 terms, double 16, both to
+/// 1 - cos(theta) = 0.2 (4-vector angles up to 36.8 degrees, rotations up to
+/// 73.7); wider scalars 16 terms to 0.1.
+template <class T>
+constexpr int direct_series_terms() {
+    return std::numeric_limits<T>::digits <= 24 ? 7 : 16;
+}
+template <class T>
+constexpr T direct_series_limit() {
+    constexpr int digits = std::numeric_limits<T>::digits;
+    return digits <= 24 ? T(0.2) : digits <= 53 ? T(0.2) : T(0.1);
+}
+
 /// Number of series terms for tau <= 4, theta <= pi/2 that leaves the
 /// truncation error below the scalar's rounding error.
 template <class T>
@@ -47,7 +64,7 @@ struct angle_series_coefficients {
 
 /// cos(theta / 4) from d = cos(theta), d in [-1, 1] (a hair beyond is fine).
 template <class T>
-T cos_quarter_angle(T d) {
+inline T cos_quarter_angle(T d) {
     const T c2 = std::sqrt(T(0.5) + T(0.5) * d);  // cos(theta / 2)
     return std::sqrt(T(0.5) + T(0.5) * c2);
 }
@@ -89,10 +106,9 @@ struct angle_series_lane_coefficients {
 /// The series of angle_series in every lane at once: tau^2 = q per lane, y
 /// one scalar for all lanes (Y = T) or one per lane (Y = lanes<T>). Horner's
 /// rule over pairs of terms, as in angle_series.
-template <class T, class Y>
-lanes<T> angle_series_lanes(const lanes<T>& q, const Y& y) {
+template <class T, int n = angle_series_terms<T>(), class Y>
+inline lanes<T> angle_series_lanes(const lanes<T>& q, const Y& y) {
     using L = lanes<T>;
-    constexpr int n = angle_series_terms<T>();
     static constexpr angle_series_lane_coefficients<T, n> s{};
     L a = splat(T(1));
     for (int i = (n % 2 == 0 ? n - 1 : n); i >= 1; i -= 2) {
@@ -106,14 +122,22 @@ lanes<T> angle_series_lanes(const lanes<T>& q, const Y& y) {
 }
 
 /// log_unit_right_half of two quaternions at once, the series and the
-/// division in the lanes of one vector.
+/// division in the lanes of one vector. When both rotations are small enough
+/// (1 - w below direct_series_limit) theta / sin(theta) comes from the
+/// series in w - 1 itself, with no square root or division.
 template <class T>
-void log_unit_right_half_pair(const quat4<T>& p, const quat4<T>& q, T (&vp)[3], T (&vq)[3]) {
+inline void log_unit_right_half_pair(const quat4<T>& p, const quat4<T>& q, T (&vp)[3], T (&vq)[3]) {
     using L = lanes<T>;
     T kp, kq;
     if constexpr (lane_count<T> >= 2) {
-        const L c{cos_quarter_angle(p.w), cos_quarter_angle(q.w)};
-        const L k = angle_series_lanes<T>(c * T(0), c - T(1)) / (c * (T(2) * c * c - T(1)));
+        L k;
+        if (T(1) - p.w <= direct_series_limit<T>() && T(1) - q.w <= direct_series_limit<T>()) {
+            const L y{p.w - T(1), q.w - T(1)};
+            k = angle_series_lanes<T, direct_series_terms<T>()>(y * T(0), y);
+        } else {
+            const L c{cos_quarter_angle(p.w), cos_quarter_angle(q.w)};
+            k = angle_series_lanes<T>(c * T(0), c - T(1)) / (c * (T(2) * c * c - T(1)));
+        }
         kp = k[0];
         kq = k[1];
     } else {
@@ -129,31 +153,48 @@ void log_unit_right_half_pair(const quat4<T>& p, const quat4<T>& q, T (&vp)[3], 
     vq[2] = kq * q.z;
 }
 
-/// Taylor coefficients of cos a and sin(a)/a in a^2, in lanes 0 and 1:
-/// cos a = 1 - a^2 c_1 (1 - a^2 c_2 (...)), c_i = 1/((2i-1) 2i), and the
-/// same for sin(a)/a with 1/(2i (2i+1)).
+/// Taylor coefficients of cos a and sin(a)/a in x = a^2, in lanes 0 and 1:
+/// cos a = sum c_i x^i, c_i = (-1)^i / (2i)!, and sin(a)/a with (2i + 1)!.
 template <class T, int N>
 struct cos_sinc_coefficients {
-    lanes<T> ck[N]{};
+    lanes<T> c[N]{};
     constexpr cos_sinc_coefficients() {
-        for (int i = 1; i < N; ++i) {
-            T both[lane_count<T> < 2 ? 2 : lane_count<T>]{};
-            both[0] = T(1) / T((2 * i - 1) * (2 * i));
-            both[1] = T(1) / T((2 * i) * (2 * i + 1));
+        T cos_i = T(1), sinc_i = T(1);
+        for (int i = 0; i < N; ++i) {
             if constexpr (lane_count<T> == 4)
-                ck[i] = lanes<T>{both[0], both[1], both[0], both[1]};
+                c[i] = lanes<T>{cos_i, sinc_i, cos_i, sinc_i};
             else if constexpr (lane_count<T> == 2)
-                ck[i] = lanes<T>{both[0], both[1]};
+                c[i] = lanes<T>{cos_i, sinc_i};
+            cos_i = -cos_i / T((2 * i + 1) * (2 * i + 2));
+            sinc_i = -sinc_i / T((2 * i + 2) * (2 * i + 3));
         }
     }
 };
 
+/// sum_{i < N} c[B + i] x^i by Estrin's scheme, with powers = (x, x^2, x^4,
+/// x^8): the lower half of the terms plus the upper half times x^H, H the
+/// largest power of two below N, recursively (unrolled at compile time).
+template <class T, int B, int N, class L, int M>
+inline L estrin(const L (&c)[M], const T (&powers)[4]) {
+    static_assert(N >= 1 && B + N <= M && N <= 16, "up to 16 terms");
+    if constexpr (N == 1) {
+        return c[B];
+    } else {
+        constexpr int h = N > 8 ? 8 : N > 4 ? 4 : N > 2 ? 2 : 1;
+        constexpr int level = h == 8 ? 3 : h == 4 ? 2 : h == 2 ? 1 : 0;
+        return estrin<T, B, h>(c, powers) + estrin<T, B + h, N - h>(c, powers) * powers[level];
+    }
+}
+
 /// exp of a pure quaternion (0, v) with |v| <= pi/4, the largest argument
-/// squad_control_point meets, by Taylor polynomials in |v|^2 (float: 5
-/// terms, double: 9; the first omitted term is below epsilon / 4 at pi/4),
-/// cos and sin(a)/a side by side in two lanes. Larger |v| go to exp_pure.
+/// squad_control_point meets, by Taylor polynomials in x = |v|^2 (float: 5
+/// terms, double: 9; the first omitted term is below epsilon / 4 at pi/4).
+/// cos and sin(a)/a run side by side in two lanes, by Estrin's scheme (the
+/// terms paired, then pairs of pairs, with x, x^2, x^4, ...), whose chain of
+/// dependent operations grows with log2 of the degree instead of the degree.
+/// Larger |v| go to exp_pure.
 template <class T>
-quat4<T> exp_pure_eighth_turn(T vx, T vy, T vz) {
+inline quat4<T> exp_pure_eighth_turn(T vx, T vy, T vz) {
     constexpr int n = std::numeric_limits<T>::digits <= 24 ? 5 : std::numeric_limits<T>::digits <= 53 ? 9 : 12;
     const T a2 = vx * vx + vy * vy + vz * vz;
     if (!(a2 <= T(0.61685027506808491)))  // (pi/4)^2
@@ -161,10 +202,11 @@ quat4<T> exp_pure_eighth_turn(T vx, T vy, T vz) {
     T c = T(1), k = T(1);
     if constexpr (lane_count<T> >= 2) {
         static constexpr cos_sinc_coefficients<T, n> s{};
-        lanes<T> ck = splat(T(1));
-        for (int i = n - 1; i >= 1; --i) ck = T(1) - (s.ck[i] * a2) * ck;
-        c = ck[0];
-        k = ck[1];
+        const T a4 = a2 * a2, a8 = a4 * a4;
+        const T powers[4] = {a2, a4, a8, a8 * a8};
+        const lanes<T> p = estrin<T, 0, n>(s.c, powers);
+        c = p[0];
+        k = p[1];
     } else {
         for (int i = n - 1; i >= 1; --i) {
             c = T(1) - a2 * (T(1) / T((2 * i - 1) * (2 * i))) * c;
