@@ -52,7 +52,7 @@ enum class arc {
 /// root or division. Otherwise the angle is quartered first (two square roots
 /// and one division per pair). Exact as the angle tends to 0.
 template <class T, int M>
-inline void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[M]) {
+ANIMA_FORCE_INLINE void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[M]) {
     constexpr int width = lane_count<T>, vectors = (2 * M + width - 1) / width;
     T q[vectors * width]{}, y[vectors * width]{}, s[vectors * width]{};
     bool direct = true;

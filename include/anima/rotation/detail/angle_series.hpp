@@ -64,7 +64,7 @@ struct angle_series_coefficients {
 
 /// cos(theta / 4) from d = cos(theta), d in [-1, 1] (a hair beyond is fine).
 template <class T>
-inline T cos_quarter_angle(T d) {
+ANIMA_FORCE_INLINE T cos_quarter_angle(T d) {
     const T c2 = std::sqrt(T(0.5) + T(0.5) * d);  // cos(theta / 2)
     return std::sqrt(T(0.5) + T(0.5) * c2);
 }
@@ -107,7 +107,7 @@ struct angle_series_lane_coefficients {
 /// one scalar for all lanes (Y = T) or one per lane (Y = lanes<T>). Horner's
 /// rule over pairs of terms, as in angle_series.
 template <class T, int n = angle_series_terms<T>(), class Y>
-inline lanes<T> angle_series_lanes(const lanes<T>& q, const Y& y) {
+ANIMA_FORCE_INLINE lanes<T> angle_series_lanes(const lanes<T>& q, const Y& y) {
     using L = lanes<T>;
     static constexpr angle_series_lane_coefficients<T, n> s{};
     L a = splat(T(1));
@@ -126,7 +126,7 @@ inline lanes<T> angle_series_lanes(const lanes<T>& q, const Y& y) {
 /// (1 - w below direct_series_limit) theta / sin(theta) comes from the
 /// series in w - 1 itself, with no square root or division.
 template <class T>
-inline void log_unit_right_half_pair(const quat4<T>& p, const quat4<T>& q, T (&vp)[3], T (&vq)[3]) {
+ANIMA_FORCE_INLINE void log_unit_right_half_pair(const quat4<T>& p, const quat4<T>& q, T (&vp)[3], T (&vq)[3]) {
     using L = lanes<T>;
     T kp, kq;
     if constexpr (lane_count<T> >= 2) {
@@ -175,7 +175,7 @@ struct cos_sinc_coefficients {
 /// x^8): the lower half of the terms plus the upper half times x^H, H the
 /// largest power of two below N, recursively (unrolled at compile time).
 template <class T, int B, int N, class L, int M>
-inline L estrin(const L (&c)[M], const T (&powers)[4]) {
+ANIMA_FORCE_INLINE L estrin(const L (&c)[M], const T (&powers)[4]) {
     static_assert(N >= 1 && B + N <= M && N <= 16, "up to 16 terms");
     if constexpr (N == 1) {
         return c[B];
@@ -194,7 +194,7 @@ inline L estrin(const L (&c)[M], const T (&powers)[4]) {
 /// dependent operations grows with log2 of the degree instead of the degree.
 /// Larger |v| go to exp_pure.
 template <class T>
-inline quat4<T> exp_pure_eighth_turn(T vx, T vy, T vz) {
+ANIMA_FORCE_INLINE quat4<T> exp_pure_eighth_turn(T vx, T vy, T vz) {
     constexpr int n = std::numeric_limits<T>::digits <= 24 ? 5 : std::numeric_limits<T>::digits <= 53 ? 9 : 12;
     const T a2 = vx * vx + vy * vy + vz * vz;
     if (!(a2 <= T(0.61685027506808491)))  // (pi/4)^2

@@ -75,7 +75,7 @@ using lanes = typename lanes_of<T, lane_count<T>>::type;
 
 /// s in every lane, usable in constant expressions.
 template <class T>
-constexpr lanes<T> splat(T s) {
+ANIMA_FORCE_INLINE constexpr lanes<T> splat(T s) {
     if constexpr (lane_count<T> == 4)
         return lanes<T>{s, s, s, s};
     else if constexpr (lane_count<T> == 2)
@@ -86,7 +86,7 @@ constexpr lanes<T> splat(T s) {
 
 /// The lanes p[0 .. lane_count - 1].
 template <class T>
-inline lanes<T> load_lanes(const T* p) {
+ANIMA_FORCE_INLINE lanes<T> load_lanes(const T* p) {
     if constexpr (lane_count<T> == 4)
         return lanes<T>{p[0], p[1], p[2], p[3]};
     else if constexpr (lane_count<T> == 2)
@@ -106,7 +106,7 @@ struct quat_lanes {
 };
 
 template <class T>
-inline quat_lanes<T> to_lanes(const quat4<T>& q) {
+ANIMA_FORCE_INLINE quat_lanes<T> to_lanes(const quat4<T>& q) {
     using L = lanes<T>;
     if constexpr (lane_count<T> == 4)
         return {{L{q.x, q.y, q.z, q.w}}};
@@ -117,7 +117,7 @@ inline quat_lanes<T> to_lanes(const quat4<T>& q) {
 }
 
 template <class T>
-inline quat4<T> from_lanes(const quat_lanes<T>& q) {
+ANIMA_FORCE_INLINE quat4<T> from_lanes(const quat_lanes<T>& q) {
     if constexpr (lane_count<T> == 4)
         return {q.p[0][3], q.p[0][0], q.p[0][1], q.p[0][2]};
     else if constexpr (lane_count<T> == 2)
@@ -128,7 +128,7 @@ inline quat4<T> from_lanes(const quat_lanes<T>& q) {
 
 /// a.b of two quaternions in lanes.
 template <class T>
-inline T dot_lanes(const quat_lanes<T>& a, const quat_lanes<T>& b) {
+ANIMA_FORCE_INLINE T dot_lanes(const quat_lanes<T>& a, const quat_lanes<T>& b) {
     lanes<T> s = a.p[0] * b.p[0];
     for (int i = 1; i < quat_lanes<T>::parts; ++i) s = s + a.p[i] * b.p[i];
     if constexpr (lane_count<T> == 4)
@@ -141,7 +141,7 @@ inline T dot_lanes(const quat_lanes<T>& a, const quat_lanes<T>& b) {
 
 /// a k0 + b k1.
 template <class T>
-inline quat_lanes<T> blend_lanes(const quat_lanes<T>& a, T k0, const quat_lanes<T>& b, T k1) {
+ANIMA_FORCE_INLINE quat_lanes<T> blend_lanes(const quat_lanes<T>& a, T k0, const quat_lanes<T>& b, T k1) {
     quat_lanes<T> r;
     for (int i = 0; i < quat_lanes<T>::parts; ++i) r.p[i] = a.p[i] * k0 + b.p[i] * k1;
     return r;
@@ -149,7 +149,7 @@ inline quat_lanes<T> blend_lanes(const quat_lanes<T>& a, T k0, const quat_lanes<
 
 /// q k.
 template <class T>
-inline quat_lanes<T> scale_lanes(const quat_lanes<T>& q, T k) {
+ANIMA_FORCE_INLINE quat_lanes<T> scale_lanes(const quat_lanes<T>& q, T k) {
     quat_lanes<T> r;
     for (int i = 0; i < quat_lanes<T>::parts; ++i) r.p[i] = q.p[i] * k;
     return r;

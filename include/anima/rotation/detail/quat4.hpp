@@ -8,6 +8,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/inline.hpp>
 #include <anima/core/scalar_value.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
@@ -24,24 +25,24 @@ template <class T>
 struct quat4 {
     T w, x, y, z;
 
-    friend quat4 operator*(const quat4& a, const quat4& b) {
+    friend ANIMA_FORCE_INLINE quat4 operator*(const quat4& a, const quat4& b) {
         return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
                 a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
                 a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
                 a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
     }
-    friend quat4 operator*(const quat4& a, T s) { return {a.w * s, a.x * s, a.y * s, a.z * s}; }
-    friend quat4 operator+(const quat4& a, const quat4& b) {
+    friend ANIMA_FORCE_INLINE quat4 operator*(const quat4& a, T s) { return {a.w * s, a.x * s, a.y * s, a.z * s}; }
+    friend ANIMA_FORCE_INLINE quat4 operator+(const quat4& a, const quat4& b) {
         return {a.w + b.w, a.x + b.x, a.y + b.y, a.z + b.z};
     }
-    friend quat4 operator-(const quat4& a, const quat4& b) {
+    friend ANIMA_FORCE_INLINE quat4 operator-(const quat4& a, const quat4& b) {
         return {a.w - b.w, a.x - b.x, a.y - b.y, a.z - b.z};
     }
     quat4 operator-() const { return {-w, -x, -y, -z}; }
 };
 
 template <class T>
-T dot4(const quat4<T>& a, const quat4<T>& b) {
+ANIMA_FORCE_INLINE T dot4(const quat4<T>& a, const quat4<T>& b) {
     return a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
 }
 template <class T>
@@ -49,7 +50,7 @@ T norm4(const quat4<T>& q) {
     return std::sqrt(dot4(q, q));
 }
 template <class T>
-quat4<T> conj4(const quat4<T>& q) {
+ANIMA_FORCE_INLINE quat4<T> conj4(const quat4<T>& q) {
     return {q.w, -q.x, -q.y, -q.z};
 }
 template <class T>
