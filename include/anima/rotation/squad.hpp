@@ -70,7 +70,8 @@ inline quat4<T> squad4(const quat4<T>& q1, quat4<T> q2, const quat4<T>& s1, quat
     // Fast path, one test: all four inputs near unit length, t in [0, 1], and
     // the control points' arc (on the keys' side) at most 90 degrees. The two
     // inner blends share t, so their four series run in the lanes together;
-    // the series are exact down to a zero angle, so no branch on the angle.
+    // the series are exact down to a zero angle, so small angles need no
+    // branch of their own.
     if (std::abs(n1 - T(1)) + std::abs(n2 - T(1)) + std::abs(m1 - T(1)) + std::abs(m2 - T(1)) <=
             near_unit_tolerance<T>() &&
         t * (T(1) - t) >= T(0) && ds >= T(0)) {

@@ -14,6 +14,9 @@
 // smaller than the one before when tau <= 4: 5 terms reach float precision,
 // 10 double precision. tau = 0 gives phi / sin(phi), hence theta / sin(theta),
 // the factor of a quaternion logarithm. Near theta = 0 the series is exact.
+// For small angles the series in cos(theta) - 1 itself is short enough and
+// needs no square root (direct_series_terms). The series are evaluated in
+// the lanes of a vector (detail/lanes.hpp), several at once.
 #pragma once
 
 #include <anima/rotation/detail/lanes.hpp>
@@ -69,12 +72,6 @@ ANIMA_FORCE_INLINE T cos_quarter_angle(T d) {
     return std::sqrt(T(0.5) + T(0.5) * c2);
 }
 
-/// sin(theta) / sin(theta / 4) = 4c(2c^2 - 1), c = cos(theta / 4).
-template <class T>
-T sin_over_sin_quarter(T c) {
-    return T(4) * c * (T(2) * c * c - T(1));
-}
-
 /// sin(tau phi) / (tau sin(phi)) for tau^2 = sq and y = cos(phi) - 1, by
 /// Horner's rule over pairs of terms, 1 + w1 + w1 w2 (1 + w3 + w3 w4 (...)),
 /// which halves the dependency chain.
@@ -121,10 +118,13 @@ ANIMA_FORCE_INLINE lanes<T> angle_series_lanes(const lanes<T>& q, const Y& y) {
     return a;
 }
 
-/// log_unit_right_half of two quaternions at once, the series and the
-/// division in the lanes of one vector. When both rotations are small enough
-/// (1 - w below direct_series_limit) theta / sin(theta) comes from the
-/// series in w - 1 itself, with no square root or division.
+/// Vector parts of the logarithms of two unit quaternions p, q with w >= 0
+/// (rotation angles at most 180 degrees; w a hair below 0 is fine): theta *
+/// axis, theta = atan2(|v|, w) <= pi/2, without an arc tangent. theta /
+/// sin(theta) is the series at tau = 0, for both quaternions in the lanes of
+/// one vector: in w - 1 itself when both 1 - w are below
+/// direct_series_limit (no square root or division), otherwise in
+/// cos(theta/4) - 1 divided by sin(theta) / sin(theta/4) = 4c(2c^2 - 1).
 template <class T>
 ANIMA_FORCE_INLINE void log_unit_right_half_pair(const quat4<T>& p, const quat4<T>& q, T (&vp)[3], T (&vq)[3]) {
     using L = lanes<T>;

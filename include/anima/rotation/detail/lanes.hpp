@@ -147,12 +147,4 @@ ANIMA_FORCE_INLINE quat_lanes<T> blend_lanes(const quat_lanes<T>& a, T k0, const
     return r;
 }
 
-/// q k.
-template <class T>
-ANIMA_FORCE_INLINE quat_lanes<T> scale_lanes(const quat_lanes<T>& q, T k) {
-    quat_lanes<T> r;
-    for (int i = 0; i < quat_lanes<T>::parts; ++i) r.p[i] = q.p[i] * k;
-    return r;
-}
-
 }  // namespace anima::detail
