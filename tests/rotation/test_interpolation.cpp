@@ -16,15 +16,18 @@
 using namespace rt;
 
 namespace {
-/// Slerp in long double: a (a^-1 b)^t along the shorter arc, from the relative rotation.
-lq ref_slerp(const lq& a, lq b, ld t) {
-    if (a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z < 0) b = scale(b, -1);
+/// Slerp in long double along the arc as given (no hemisphere flip): a (a^-1 b)^t.
+lq ref_slerp_as_given(const lq& a, const lq& b, ld t) {
     const lq d = conj(a) * b;
     const ld s = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
     if (s == 0) return a;
-    const ld half = std::atan2(s, d.w);
-    return a * lq{std::cos(t * half), std::sin(t * half) * d.x / s, std::sin(t * half) * d.y / s,
-                  std::sin(t * half) * d.z / s};
+    const ld half = std::atan2(s, d.w), k = std::sin(t * half) / s;
+    return a * lq{std::cos(t * half), k * d.x, k * d.y, k * d.z};
+}
+/// Slerp in long double along the shorter arc, from the relative rotation.
+lq ref_slerp(const lq& a, lq b, ld t) {
+    if (a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z < 0) b = scale(b, -1);
+    return ref_slerp_as_given(a, b, t);
 }
 /// Keys of a smooth random walk, neighbours in the same hemisphere.
 template <class Q>
@@ -341,4 +344,184 @@ TEST_CASE_TEMPLATE("slerp's worst angle error on mixed inputs is within GLM's ac
     CAPTURE(worst_eigen);
     CHECK(worst <= bound);
     CHECK(worst <= 2 * std::max(worst_glm, worst_eigen));
+}
+
+TEST_CASE_TEMPLATE("slerp's single fast-path test routes every other input to the general path", Q, ANIMA_QUAT_TYPES) {
+    // The fast path takes t in [0, 1] and inputs within sqrt(eps)/4 of unit
+    // squared length in one test; just outside it, results must still be a
+    // correct slerp (extrapolation, normalisation), and NaN or infinite t
+    // must throw rather than leak into the result.
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    rng r(40);
+    for (int i = 0; i < 100; ++i) {
+        const Q a = r.unit<Q>(), b = r.unit<Q>();
+        const lq pa = to_lq(a), pb = to_lq(b);
+        for (const T t : {std::nextafter(T(0), T(-1)), T(-0.0), std::nextafter(T(1), T(2)), T(-1e-3), T(1.001)}) {
+            CAPTURE(t);
+            const Q s = anima::slerp(a, b, t);
+            CHECK(norm_error(s) <= 2 * e);
+            CHECK(diff(s, ref_slerp(pa, pb, t)) <= 8 * e);
+        }
+        // Squared lengths 1 +- 0.6 sqrt(eps) each: either alone passes the
+        // test, together they do not; and 1 + sqrt(eps), far outside.
+        const ld step = 0.3L * std::sqrt(ld(e));
+        for (const ld grow : {1 + step, 1 - step, 1 + 2 * step, 1 - 2 * step}) {
+            for (const ld shrink : {1 + step, 1 - step, 1 + 2 * step}) {
+                const Q as = make<Q>(grow * pa.w, grow * pa.x, grow * pa.y, grow * pa.z);
+                const Q bs = make<Q>(shrink * pb.w, shrink * pb.x, shrink * pb.y, shrink * pb.z);
+                const T t = T(r.uniform(0, 1));
+                CAPTURE(grow);
+                CAPTURE(shrink);
+                const Q s = anima::slerp(as, bs, t);
+                CHECK(norm_error(s) <= 2 * e);
+                CHECK(diff(s, ref_slerp(unit(to_lq(as)), unit(to_lq(bs)), t)) <= 8 * e);
+            }
+        }
+        const T nan = std::numeric_limits<T>::quiet_NaN(), inf = std::numeric_limits<T>::infinity();
+        for (const T t : {nan, inf, -inf}) {
+            CHECK_THROWS_AS(anima::slerp(a, b, t), anima::invalid_argument);
+            CHECK_THROWS_AS(anima::squad(a, b, a, b, t), anima::invalid_argument);
+        }
+    }
+}
+
+TEST_CASE_TEMPLATE("slerp is exact at t = 0 and 1 and continuous across the switch to the series", Q,
+                   ANIMA_QUAT_TYPES) {
+    // The weights come from one of two series, chosen by 1 - cos(theta)
+    // against sqrt(eps) (theta the 4-vector angle). Angles on both sides of
+    // that switch, and the singular cases (identical, 1e-6 rad apart,
+    // antipodal, 1e-6 rad from antipodal), against a long double slerp.
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    const ld switch_angle = 4 * std::acos(1 - std::sqrt(ld(e)));  // rotation angle (twice the 4-vector angle)
+    rng r(41);
+    for (int i = 0; i < 50; ++i) {
+        const lq a = r.unit_lq();
+        const vec axis = r.unit_vector();
+        std::vector<lq> others{a, scale(a, -1)};
+        for (const ld angle : {1e-6L, switch_angle * (1 - 1e-3L), switch_angle, switch_angle * (1 + 1e-3L), 0.5L, 2.0L,
+                               pi - 1e-6L}) {
+            others.push_back(a * rot(angle, axis));
+            others.push_back(scale(a * rot(angle, axis), -1));
+        }
+        const Q qa = from_lq<Q>(a);
+        for (const lq& o : others) {
+            const Q qb = from_lq<Q>(o);
+            const Q s0 = anima::slerp(qa, qb, T(0)), s1 = anima::slerp(qa, qb, T(1));
+            CHECK(diff(s0, qa) <= 2 * e);
+            CHECK(diff(s1, anima::align_hemisphere(qb, qa)) <= 2 * e);
+            for (const T t : {T(1e-6), T(0.25), T(0.5), T(0.75), T(1) - T(1e-6)}) {
+                CAPTURE(t);
+                const Q s = anima::slerp(qa, qb, t);
+                const lq ref = ref_slerp(to_lq(qa), to_lq(qb), t);
+                REQUIRE(finite(s));
+                CHECK(norm_error(s) <= 2 * e);
+                CHECK(diff(s, ref) <= 4 * e);
+                // t is honoured at every angle: no early-out to a or b.
+                CHECK(angle_between(to_lq(s), ref) <= 4 * e);
+            }
+        }
+    }
+}
+
+namespace {
+/// Squad in long double: q2 and s2 on q1's side, then three slerps along the arcs as given.
+lq ref_squad(const lq& q1, lq q2, const lq& s1, lq s2, ld t) {
+    if (q1.w * q2.w + q1.x * q2.x + q1.y * q2.y + q1.z * q2.z < 0) {
+        q2 = scale(q2, -1);
+        s2 = scale(s2, -1);
+    }
+    return ref_slerp_as_given(ref_slerp_as_given(q1, q2, t), ref_slerp_as_given(s1, s2, t), 2 * t * (1 - t));
+}
+/// Log (rotation vector / 2 form: angle/2 * axis) of a unit quaternion, long double.
+vec ref_log(const lq& q) {
+    const ld s = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
+    if (s == 0) return {0, 0, 0};
+    const ld k = std::atan2(s, q.w) / s;
+    return {k * q.x, k * q.y, k * q.z};
+}
+lq ref_exp(const vec& v) {
+    const ld a = vnorm(v);
+    if (a == 0) return {1, 0, 0, 0};
+    const ld k = std::sin(a) / a;
+    return {std::cos(a), k * v[0], k * v[1], k * v[2]};
+}
+/// Shoemake's control point in long double, neighbours moved to q's hemisphere.
+lq ref_control_point(lq p, const lq& q, lq n) {
+    const auto dot = [](const lq& a, const lq& b) { return a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z; };
+    if (dot(q, p) < 0) p = scale(p, -1);
+    if (dot(q, n) < 0) n = scale(n, -1);
+    const vec a = ref_log(conj(q) * n), b = ref_log(conj(q) * p);
+    return q * ref_exp({-(a[0] + b[0]) / 4, -(a[1] + b[1]) / 4, -(a[2] + b[2]) / 4});
+}
+}  // namespace
+
+TEST_CASE_TEMPLATE("squad's joint fast path matches a long double squad, also at its singular cases", Q,
+                   ANIMA_QUAT_TYPES) {
+    // Both inner blends of squad share t and run together; the series they
+    // use is exact at a zero angle, so identical keys, identical control
+    // points, keys 1e-6 rad apart and keys given on opposite sides of the
+    // double cover need no branch of their own.
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    rng r(42);
+    for (int i = 0; i < 200; ++i) {
+        const lq q1 = r.unit_lq();
+        lq q2;
+        switch (i % 5) {
+        case 0: q2 = q1; break;
+        case 1: q2 = q1 * rot(1e-6L, r.unit_vector()); break;
+        case 2: q2 = scale(q1 * rot(r.uniform(0.1, 1.5), r.unit_vector()), -1); break;
+        case 3: q2 = q1 * rot(pi - 1e-6L, r.unit_vector()); break;
+        default: q2 = q1 * rot(r.uniform(0.1, 1.5), r.unit_vector()); break;
+        }
+        const Q a = from_lq<Q>(q1), b = from_lq<Q>(q2);
+        const Q sa = anima::squad_control_point(a, a, b), sb = i % 5 == 0 ? sa : anima::squad_control_point(a, b, b);
+        CAPTURE(i);
+        CHECK(diff(anima::squad(a, b, sa, sb, T(0)), a) <= 2 * e);
+        CHECK(diff_up_to_sign(anima::squad(a, b, sa, sb, T(1)), b) <= 2 * e);
+        for (const T t : {T(1e-6), T(0.2), T(0.5), T(0.9), T(1) - T(1e-6)}) {
+            CAPTURE(t);
+            const Q s = anima::squad(a, b, sa, sb, t);
+            REQUIRE(finite(s));
+            CHECK(norm_error(s) <= 2 * e);
+            CHECK(diff(s, ref_squad(to_lq(a), to_lq(b), to_lq(sa), to_lq(sb), t)) <= 8 * e);
+        }
+    }
+}
+
+TEST_CASE_TEMPLATE("squad_control_point matches a long double control point near its singular cases", Q,
+                   ANIMA_QUAT_TYPES) {
+    // Polynomial logarithms (both at once) and exponential against atan2,
+    // sin and cos in long double: identical neighbours, neighbours 1e-6 rad
+    // away, neighbours given on the other side of the double cover, and
+    // neighbours up to 180 degrees away (the exponential's argument then
+    // reaches pi/4, the end of its polynomial's range).
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    rng r(43);
+    for (int i = 0; i < 300; ++i) {
+        const lq q = r.unit_lq();
+        const ld big = pi - 1e-6L;
+        lq p, n;
+        switch (i % 5) {
+        case 0: p = n = q; break;
+        case 1: p = q * rot(1e-6L, r.unit_vector()), n = q * rot(1e-6L, r.unit_vector()); break;
+        case 2: p = scale(q * rot(1.0L, r.unit_vector()), -1), n = scale(q * rot(2.0L, r.unit_vector()), -1); break;
+        case 3: {
+            const vec axis = r.unit_vector();
+            p = n = q * rot(big, axis);  // both logs (pi/2) axis: the exponential's argument is pi/4
+            break;
+        }
+        default: p = q * rot(r.uniform(0, 3.1), r.unit_vector()), n = q * rot(r.uniform(0, 3.1), r.unit_vector());
+        }
+        const Q qp = from_lq<Q>(p), qq = from_lq<Q>(q), qn = from_lq<Q>(n);
+        const Q s = anima::squad_control_point(qp, qq, qn);
+        CAPTURE(i);
+        REQUIRE(finite(s));
+        CHECK(norm_error(s) <= 4 * e);
+        CHECK(diff(s, ref_control_point(to_lq(qp), to_lq(qq), to_lq(qn))) <= 8 * e);
+        if (i % 5 == 0) CHECK(diff(s, qq) <= 2 * e);
+    }
 }

@@ -16,6 +16,7 @@
 #include <anima/flight/cubic_spline.hpp>
 #include <anima/core/scalar_value.hpp>
 #include <anima/flight/inverse_dynamics.hpp>
+#include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
 #include <Eigen/Core>
@@ -94,14 +95,14 @@ void check_keys(const flight_keys<T>& keys, std::size_t joints, const char* who)
 
 namespace detail {
 
-/// Rotation matrix of a unit quaternion stored as (w, x, y, z).
+/// Rotation matrix of a unit quaternion stored as (w, x, y, z): the rotation
+/// toolkit's to_matrix, which runs on AutoDiff scalars.
 template <class S>
 Eigen::Matrix<S, 3, 3> rotation_matrix(const Eigen::Matrix<S, 4, 1>& q) {
-    const S w = q[0], x = q[1], y = q[2], z = q[3];
+    const auto m = to_matrix(quat4<S>{q[0], q[1], q[2], q[3]});
     Eigen::Matrix<S, 3, 3> r;
-    r << S(1) - S(2) * (y * y + z * z), S(2) * (x * y - w * z), S(2) * (x * z + w * y),
-        S(2) * (x * y + w * z), S(1) - S(2) * (x * x + z * z), S(2) * (y * z - w * x),
-        S(2) * (x * z - w * y), S(2) * (y * z + w * x), S(1) - S(2) * (x * x + y * y);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) r(i, j) = m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
     return r;
 }
 

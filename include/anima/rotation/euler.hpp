@@ -87,17 +87,6 @@ quat4<T> axis_rotation(axis a, T angle) {
     return q;
 }
 
-/// Row-major rotation matrix of a unit quaternion.
-template <class T>
-std::array<std::array<T, 3>, 3> to_matrix(const quat4<T>& q) {
-    const T xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
-    const T xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
-    const T wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
-    return {{{T(1) - T(2) * (yy + zz), T(2) * (xy - wz), T(2) * (xz + wy)},
-             {T(2) * (xy + wz), T(1) - T(2) * (xx + zz), T(2) * (yz - wx)},
-             {T(2) * (xz - wy), T(2) * (yz + wx), T(1) - T(2) * (xx + yy)}}};
-}
-
 /// atan2 mapped to (-pi, pi]: atan2(-0, negative) is -pi.
 template <class T>
 T atan2_half_open(T y, T x) {

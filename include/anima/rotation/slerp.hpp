@@ -3,18 +3,25 @@
 // How it is computed. For unit inputs at 4-vector angle theta (cos theta =
 // a.b >= 0 after the shortest-arc flip) the result is k0 a + k1 b with
 // k1 = sin(t theta) / sin(theta) and k0 the same with 1 - t. Both weights
-// come from the power series of detail/angle_series.hpp in cos(theta/4) - 1
-// (two half-angle square roots, one division, no sine or arc cosine), or,
-// when 1 - cos(theta) is below sqrt(epsilon), from two terms of the series in
-// cos(theta) - 1 itself. Near theta = 0 the series are exact, so t is honoured
-// at every angle and identical inputs need no special case.
+// come from the power series of detail/angle_series.hpp, with no sine or arc
+// cosine: when 1 - cos(theta) is below sqrt(epsilon), two terms of the
+// series in cos(theta) - 1; below 0.2, more terms of the same series (7 in
+// float, 16 in double); above, the series in cos(theta/4) - 1 (two
+// half-angle square roots, one division, 5 or 10 terms). Near theta = 0 the
+// series are exact, so t is honoured at every angle and identical inputs
+// need no special case. The series for t and 1 - t are evaluated side by
+// side in the lanes of one vector, and the dot products and the blend run on
+// the quaternion as a vector (detail/lanes.hpp: GCC/Clang vector types, a
+// plain array elsewhere). The result's length is corrected from the weights
+// (|k0 a + k1 b|^2 = k0^2 + k1^2 + 2 k0 k1 cos(theta)), by one Newton step.
 //
 // The fast path takes inputs within sqrt(epsilon)/4 of unit length (one
 // Newton step brings them to unit length inside the weights) and t in
-// [0, 1]. Anything else - extrapolation, quaternions far from unit length,
-// zero or non-finite ones - goes to a general path that normalises with a
-// scaled norm, uses sines, and throws anima::invalid_argument for inputs that
-// are not rotations.
+// [0, 1], decided by one test on the sum of the two length errors and on
+// t (1 - t) >= 0, which NaN and infinities fail. Anything else - extrapolation,
+// quaternions far from unit length, zero or non-finite ones - goes to a
+// general path that normalises with a scaled norm, uses sines, and throws
+// anima::invalid_argument for inputs that are not rotations.
 #pragma once
 
 #include <anima/core/error.hpp>
@@ -36,17 +43,56 @@ enum class arc {
     as_given   ///< the great arc from a to b as they are (squad's inner blends)
 };
 
-/// Slerp weights (k0 for a, k1 for b) of unit quaternions with a.b = d in
-/// [0, 1] (a hair above 1 is fine) and t in [0, 1]. Polynomial except for two
-/// square roots and one division.
-template <class T>
-void slerp_weights(T d, T t, T& k0, T& k1) {
-    const T c = cos_quarter_angle(d);
-    const T y = c - T(1);
+/// Slerp weights (k0[m] for a, k1[m] for b) of M pairs of unit quaternions
+/// with a.b = d[m] in [0, 1] (a hair above 1 is fine), all at the same t in
+/// [0, 1]. The 2M series (t and 1 - t for each pair) run side by side in the
+/// lanes of as few vectors as hold them (one for up to two pairs of floats,
+/// one per pair of doubles). When every 1 - d[m] is below
+/// direct_series_limit the series in d - 1 itself is short enough: no square
+/// root or division. Otherwise the angle is quartered first (two square roots
+/// and one division per pair). Exact as the angle tends to 0.
+template <class T, int M>
+ANIMA_FORCE_INLINE void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[M]) {
+    constexpr int width = lane_count<T>, vectors = (2 * M + width - 1) / width;
+    T q[vectors * width]{}, y[vectors * width]{}, s[vectors * width]{};
+    bool direct = true;
+    for (int m = 0; m < M; ++m) direct = direct && T(1) - d[m] <= direct_series_limit<T>();
+    if (direct) {
+        const T t0 = T(1) - t;
+        for (int m = 0; m < M; ++m) {
+            q[2 * m] = t0 * t0;
+            q[2 * m + 1] = t * t;
+            y[2 * m] = y[2 * m + 1] = d[m] - T(1);
+        }
+        for (int v = 0; v < vectors; ++v) {
+            const lanes<T> r = angle_series_lanes<T, direct_series_terms<T>()>(load_lanes(q + v * width),
+                                                                             load_lanes(y + v * width));
+            for (int i = 0; i < width; ++i) s[v * width + i] = r[i];
+        }
+        for (int m = 0; m < M; ++m) {
+            k0[m] = t0 * s[2 * m];
+            k1[m] = t * s[2 * m + 1];
+        }
+        return;
+    }
     const T tau1 = T(4) * t, tau0 = T(4) - tau1;  // 4 - 4t is exact for t >= 1/2
-    const T inv = T(1) / sin_over_sin_quarter(c);  // sin(theta / 4) / sin(theta)
-    k0 = tau0 * angle_series(tau0 * tau0, y) * inv;
-    k1 = tau1 * angle_series(tau1 * tau1, y) * inv;
+    T c[M];
+    for (int m = 0; m < M; ++m) {
+        c[m] = cos_quarter_angle(d[m]);
+        q[2 * m] = tau0 * tau0;
+        q[2 * m + 1] = tau1 * tau1;
+        y[2 * m] = y[2 * m + 1] = c[m] - T(1);
+    }
+    for (int v = 0; v < vectors; ++v) {
+        const lanes<T> r = angle_series_lanes<T>(load_lanes(q + v * width), load_lanes(y + v * width));
+        for (int i = 0; i < width; ++i) s[v * width + i] = r[i];
+    }
+    for (int m = 0; m < M; ++m) {
+        // k = tau sin(phi) S / sin(theta), sin(theta) / sin(phi) = 4c(2c^2 - 1), tau = 4t.
+        const T inv = T(1) / (c[m] * (T(2) * c[m] * c[m] - T(1)));
+        k0[m] = (T(1) - t) * s[2 * m] * inv;
+        k1[m] = t * s[2 * m + 1] * inv;
+    }
 }
 
 /// Where 1 - cos(theta) is small enough for the two-term series of the weights.
@@ -95,18 +141,22 @@ quat4<T> slerp_general(const quat4<T>& a_in, const quat4<T>& b_in, T t, arc mode
 /// it (enough for a caller that feeds it straight into another slerp, whose
 /// Newton step on the inputs absorbs that).
 template <class T>
-quat4<T> slerp4(const quat4<T>& a, const quat4<T>& b, T t, arc mode = arc::shortest,
+inline quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::shortest,
                 const char* who = "anima::slerp", bool unit_result = true) {
     constexpr T tolerance = near_unit_tolerance<T>();
-    const T na = dot4(a, a), nb = dot4(b, b), d = dot4(a, b);
-    const bool fast = std::abs(na - T(1)) <= tolerance && std::abs(nb - T(1)) <= tolerance && t >= T(0) &&
-                      t <= T(1) && (mode == arc::shortest || d >= T(0));
-    if (!fast) return slerp_general(a, b, t, mode, who);
+    const quat_lanes<T> a = to_lanes(a4), b = to_lanes(b4);
+    const T na = dot_lanes(a, a), nb = dot_lanes(b, b), d = dot_lanes(a, b);
+    // One test for the fast path: both inputs near unit length (NaN fails),
+    // t in [0, 1] (t (1 - t) >= 0 fails for NaN and infinities too), and for
+    // an arc as given an angle of at most 90 degrees.
+    const T d_min = mode == arc::shortest ? T(-2) : T(0);
+    if (!(std::abs(na - T(1)) + std::abs(nb - T(1)) <= tolerance && t * (T(1) - t) >= T(0) && d >= d_min))
+        return slerp_general(a4, b4, t, mode, who);
     // One Newton step towards 1/|q| from 1: the inputs' length error drops
     // from at most sqrt(eps)/4 to below eps. It is folded into the weights.
     const T ga = T(1.5) - T(0.5) * na, gb = T(1.5) - T(0.5) * nb;
-    // Shorter arc: -b when a.b < 0, without a branch.
-    const T sign = mode == arc::shortest ? std::copysign(T(1), d) : T(1);
+    // Shorter arc: -b when a.b < 0 (a select, not a branch).
+    const T gbs = mode == arc::shortest && d < T(0) ? -gb : gb;
     const T cos_theta = std::abs(d) * ga * gb;
     T k0, k1;
     const T y = cos_theta - T(1);
@@ -114,15 +164,24 @@ quat4<T> slerp4(const quat4<T>& a, const quat4<T>& b, T t, arc mode = arc::short
         // theta below about eps^(1/4): two terms of the series in cos(theta) - 1
         // itself are exact (the third is under 2 y^2 / 15 <= eps / 8), with no
         // square root or division. Nearly identical and nearly antipodal inputs.
-        const T s = T(1) - t;
-        k0 = s * (T(1) + (s * s - T(1)) * y / T(3));
-        k1 = t * (T(1) + (t * t - T(1)) * y / T(3));
+        const T s = T(1) - t, y3 = y * T(1.0L / 3);
+        k0 = s + s * (s * s - T(1)) * y3;
+        k1 = t + t * (t * t - T(1)) * y3;
     } else {
-        slerp_weights(cos_theta, t, k0, k1);
+        T w0[1], w1[1];
+        slerp_weights<T, 1>({cos_theta}, t, w0, w1);
+        k0 = w0[0];
+        k1 = w1[0];
     }
-    const quat4<T> r = a * (k0 * ga) + b * (k1 * gb * sign);
-    if (!unit_result) return r;
-    return r * (T(1.5) - T(0.5) * dot4(r, r));  // and once more on the result
+    if (unit_result) {
+        // |k0 a + k1 b|^2 for unit a, b, from the weights: one Newton step
+        // towards its inverse square root takes out the weights' rounding
+        // without a dot product of the result.
+        const T g = T(1.5) - T(0.5) * (k0 * k0 + k1 * k1 + T(2) * k0 * k1 * cos_theta);
+        k0 *= g;
+        k1 *= g;
+    }
+    return from_lanes(blend_lanes(a, k0 * ga, b, k1 * gbs));
 }
 
 }  // namespace detail
@@ -135,7 +194,7 @@ quat4<T> slerp4(const quat4<T>& a, const quat4<T>& b, T t, arc mode = arc::short
 /// 1e200 components work); the result is a unit quaternion. Throws
 /// anima::invalid_argument for a zero or non-finite quaternion or t.
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
-Q slerp(const Q& a, const Q& b, quat_scalar_t<Q> t) {
+inline Q slerp(const Q& a, const Q& b, quat_scalar_t<Q> t) {
     return detail::store<Q>(detail::slerp4(detail::load(a), detail::load(b), t));
 }
 

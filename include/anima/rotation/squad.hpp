@@ -7,6 +7,7 @@
 #include <anima/rotation/quat_traits.hpp>
 #include <anima/rotation/slerp.hpp>
 
+#include <cmath>
 #include <type_traits>
 
 namespace anima {
@@ -19,26 +20,37 @@ namespace anima {
 /// of the way back along the one real neighbour's arc, which starts the curve
 /// towards that neighbour with the tangent of the segment.
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
-Q squad_control_point(const Q& prev, const Q& q, const Q& next) {
+inline Q squad_control_point(const Q& prev, const Q& q, const Q& next) {
     using T = quat_scalar_t<Q>;
+    const char* who = "anima::squad_control_point";
     const auto c_in = detail::load(q), p_in = detail::load(prev), n_in = detail::load(next);
-    const auto c = detail::unit_or_throw(c_in, "anima::squad_control_point");
-    auto p = detail::unit_or_throw(p_in, "anima::squad_control_point");
-    auto n = detail::unit_or_throw(n_in, "anima::squad_control_point");
-    // The hemisphere test on the inputs as given, exactly as squad() makes it
-    // for a segment: a key pair 180 degrees apart (a.b = 0 up to rounding)
-    // then gets the same choice of arc in both places.
-    if (detail::dot4(c_in, p_in) < T(0)) p = -p;
-    if (detail::dot4(c_in, n_in) < T(0)) n = -n;
+    const detail::quat_lanes<T> lc = detail::to_lanes(c_in), lp = detail::to_lanes(p_in), ln = detail::to_lanes(n_in);
+    const T nc = detail::dot_lanes(lc, lc), np = detail::dot_lanes(lp, lp), nn = detail::dot_lanes(ln, ln);
+    // The hemisphere test on the inputs as given, with the same dot product
+    // as squad() uses for a segment: a key pair 180 degrees apart (a.b = 0 up
+    // to rounding) then gets the same choice of arc in both places.
+    const T sp = detail::dot_lanes(lc, lp) < T(0) ? T(-1) : T(1), sn = detail::dot_lanes(lc, ln) < T(0) ? T(-1) : T(1);
+    detail::quat4<T> c, rp, rn;  // the key and the neighbours relative to it, unit, on its side
+    if (std::abs(nc - T(1)) + std::abs(np - T(1)) + std::abs(nn - T(1)) <= detail::near_unit_tolerance<T>()) {
+        // One Newton step on each length, applied to the products.
+        const T gc = T(1.5) - T(0.5) * nc;
+        c = c_in * gc;
+        const auto ci = detail::conj4(c);
+        rp = (ci * p_in) * ((T(1.5) - T(0.5) * np) * sp);
+        rn = (ci * n_in) * ((T(1.5) - T(0.5) * nn) * sn);
+    } else {
+        c = detail::unit_or_throw(c_in, who);
+        const auto ci = detail::conj4(c);
+        rp = ci * (detail::unit_or_throw(p_in, who) * sp);
+        rn = ci * (detail::unit_or_throw(n_in, who) * sn);
+    }
     // Both relative rotations have w = c.n, c.p >= 0 and the sum of their logs
     // is at most pi in length: the polynomial log and exp of angle_series.hpp
     // cover them without an arc tangent, sine or cosine.
-    const auto ci = detail::conj4(c);
-    T ax, ay, az, bx, by, bz;
-    detail::log_unit_right_half(ci * n, ax, ay, az);
-    detail::log_unit_right_half(ci * p, bx, by, bz);
+    T a[3], b[3];
+    detail::log_unit_right_half_pair(rn, rp, a, b);
     const T k = T(-0.25);
-    return detail::store<Q>(c * detail::exp_pure_quarter_turn(k * (ax + bx), k * (ay + by), k * (az + bz)));
+    return detail::store<Q>(c * detail::exp_pure_eighth_turn(k * (a[0] + b[0]), k * (a[1] + b[1]), k * (a[2] + b[2])));
 }
 
 namespace detail {
@@ -50,12 +62,31 @@ namespace detail {
 /// control points are more than 90 degrees (4-vector angle) apart, which
 /// happens for keys more than 120 degrees apart.
 template <class T>
-quat4<T> squad4(const quat4<T>& q1, quat4<T> q2, const quat4<T>& s1, quat4<T> s2, T t) {
-    if (dot4(q1, q2) < T(0)) {
+inline quat4<T> squad4(const quat4<T>& q1, quat4<T> q2, const quat4<T>& s1, quat4<T> s2, T t) {
+    const char* who = "anima::squad";
+    const quat_lanes<T> lq1 = to_lanes(q1), lq2 = to_lanes(q2), ls1 = to_lanes(s1), ls2 = to_lanes(s2);
+    const T n1 = dot_lanes(lq1, lq1), n2 = dot_lanes(lq2, lq2), m1 = dot_lanes(ls1, ls1), m2 = dot_lanes(ls2, ls2);
+    const T dq = dot_lanes(lq1, lq2), side = dq < T(0) ? T(-1) : T(1), ds = dot_lanes(ls1, ls2) * side;
+    // Fast path, one test: all four inputs near unit length, t in [0, 1], and
+    // the control points' arc (on the keys' side) at most 90 degrees. The two
+    // inner blends share t, so their four series run in the lanes together;
+    // the series are exact down to a zero angle, so small angles need no
+    // branch of their own.
+    if (std::abs(n1 - T(1)) + std::abs(n2 - T(1)) + std::abs(m1 - T(1)) + std::abs(m2 - T(1)) <=
+            near_unit_tolerance<T>() &&
+        t * (T(1) - t) >= T(0) && ds >= T(0)) {
+        const T g1 = T(1.5) - T(0.5) * n1, g2 = (T(1.5) - T(0.5) * n2) * side;
+        const T h1 = T(1.5) - T(0.5) * m1, h2 = (T(1.5) - T(0.5) * m2) * side;
+        T k0[2], k1[2];
+        slerp_weights<T, 2>({dq * g1 * g2, ds * h1 * h2 * side}, t, k0, k1);
+        const quat4<T> a = from_lanes(blend_lanes(lq1, k0[0] * g1, lq2, k1[0] * g2));
+        const quat4<T> b = from_lanes(blend_lanes(ls1, k0[1] * h1, ls2, k1[1] * h2));
+        return slerp4(a, b, T(2) * t * (T(1) - t), arc::as_given, who);
+    }
+    if (dq < T(0)) {
         q2 = -q2;
         s2 = -s2;
     }
-    const char* who = "anima::squad";
     const quat4<T> a = slerp4(q1, q2, t, arc::as_given, who, false);
     const quat4<T> b = slerp4(s1, s2, t, arc::as_given, who, false);
     return slerp4(a, b, T(2) * t * (T(1) - t), arc::as_given, who);
@@ -73,7 +104,7 @@ quat4<T> squad4(const quat4<T>& q1, quat4<T> q2, const quat4<T>& s1, quat4<T> s2
 /// are normalised; throws anima::invalid_argument for a zero or non-finite
 /// quaternion or t.
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
-Q squad(const Q& q1, const Q& q2, const Q& s1, const Q& s2, quat_scalar_t<Q> t) {
+inline Q squad(const Q& q1, const Q& q2, const Q& s1, const Q& s2, quat_scalar_t<Q> t) {
     return detail::store<Q>(
         detail::squad4(detail::load(q1), detail::load(q2), detail::load(s1), detail::load(s2), t));
 }

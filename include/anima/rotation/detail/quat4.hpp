@@ -8,9 +8,11 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/inline.hpp>
 #include <anima/core/scalar_value.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
+#include <array>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
@@ -23,24 +25,24 @@ template <class T>
 struct quat4 {
     T w, x, y, z;
 
-    friend quat4 operator*(const quat4& a, const quat4& b) {
+    friend ANIMA_FORCE_INLINE quat4 operator*(const quat4& a, const quat4& b) {
         return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
                 a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
                 a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
                 a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
     }
-    friend quat4 operator*(const quat4& a, T s) { return {a.w * s, a.x * s, a.y * s, a.z * s}; }
-    friend quat4 operator+(const quat4& a, const quat4& b) {
+    friend ANIMA_FORCE_INLINE quat4 operator*(const quat4& a, T s) { return {a.w * s, a.x * s, a.y * s, a.z * s}; }
+    friend ANIMA_FORCE_INLINE quat4 operator+(const quat4& a, const quat4& b) {
         return {a.w + b.w, a.x + b.x, a.y + b.y, a.z + b.z};
     }
-    friend quat4 operator-(const quat4& a, const quat4& b) {
+    friend ANIMA_FORCE_INLINE quat4 operator-(const quat4& a, const quat4& b) {
         return {a.w - b.w, a.x - b.x, a.y - b.y, a.z - b.z};
     }
     quat4 operator-() const { return {-w, -x, -y, -z}; }
 };
 
 template <class T>
-T dot4(const quat4<T>& a, const quat4<T>& b) {
+ANIMA_FORCE_INLINE T dot4(const quat4<T>& a, const quat4<T>& b) {
     return a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
 }
 template <class T>
@@ -48,7 +50,7 @@ T norm4(const quat4<T>& q) {
     return std::sqrt(dot4(q, q));
 }
 template <class T>
-quat4<T> conj4(const quat4<T>& q) {
+ANIMA_FORCE_INLINE quat4<T> conj4(const quat4<T>& q) {
     return {q.w, -q.x, -q.y, -q.z};
 }
 template <class T>
@@ -146,6 +148,18 @@ quat4<T> unit_or_throw(const quat4<T>& q, const char* who) {
     const T n2 = dot4(q, q);
     if (std::abs(n2 - T(1)) <= near_unit_tolerance<T>()) return q * (T(1.5) - T(0.5) * n2);
     return normalized_or_throw(q, who);
+}
+
+/// Row-major rotation matrix of a unit quaternion, for any scalar (the flight
+/// objective runs it on AutoDiff scalars).
+template <class T>
+std::array<std::array<T, 3>, 3> to_matrix(const quat4<T>& q) {
+    const T xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+    const T xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
+    const T wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+    return {{{T(1) - T(2) * (yy + zz), T(2) * (xy - wz), T(2) * (xz + wy)},
+             {T(2) * (xy + wz), T(1) - T(2) * (xx + zz), T(2) * (yz - wx)},
+             {T(2) * (xz - wy), T(2) * (yz + wx), T(1) - T(2) * (xx + yy)}}};
 }
 
 /// cos(a) and sin(a)/a from a^2, for any scalar S including

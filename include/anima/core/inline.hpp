@@ -1,0 +1,14 @@
+// ANIMA_FORCE_INLINE marks the small helpers on the rotation toolkit's hot
+// paths (quaternion products, lane arithmetic, series): the compiler inlines
+// them even where its size heuristics would stop, which in a translation unit
+// with many instantiations otherwise leaves them as calls returning
+// quaternions through memory. A plain `inline` with other compilers.
+#pragma once
+
+#if defined(__GNUC__) || defined(__clang__)
+#define ANIMA_FORCE_INLINE inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define ANIMA_FORCE_INLINE __forceinline
+#else
+#define ANIMA_FORCE_INLINE inline
+#endif

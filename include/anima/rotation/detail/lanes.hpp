@@ -1,0 +1,150 @@
+// Small fixed-width vectors for the rotation toolkit's hot paths: arithmetic
+// applies lane by lane, so the four components of a quaternion, or the two
+// weights of a slerp, are computed by one instruction each where the target
+// has vector registers. Under GCC and Clang `lanes<float>` and
+// `lanes<double>` are the compilers' generic vector types (16 bytes: SSE2 on
+// x86-64, NEON on AArch64, lowered to scalar code elsewhere); with other
+// compilers, for other scalars, or with ANIMA_NO_VECTOR_EXTENSIONS defined
+// they are a plain array with the same operators. The results are the same
+// either way: every operation is the scalar one, done per lane.
+#pragma once
+
+#include <anima/rotation/detail/quat4.hpp>
+
+#include <type_traits>
+
+namespace anima::detail {
+
+/// N values of T with lane-wise +, -, * and / (+, -, * also with a scalar).
+template <class T, int N>
+struct lane_array {
+    T v[N];
+
+    T operator[](int i) const { return v[i]; }
+
+    template <class F>
+    friend lane_array apply(const lane_array& a, const lane_array& b, F f) {
+        lane_array r{};
+        for (int i = 0; i < N; ++i) r.v[i] = f(a.v[i], b.v[i]);
+        return r;
+    }
+    static lane_array all(T s) {
+        lane_array r{};
+        for (int i = 0; i < N; ++i) r.v[i] = s;
+        return r;
+    }
+    friend lane_array operator+(const lane_array& a, const lane_array& b) {
+        return apply(a, b, [](T x, T y) { return x + y; });
+    }
+    friend lane_array operator-(const lane_array& a, const lane_array& b) {
+        return apply(a, b, [](T x, T y) { return x - y; });
+    }
+    friend lane_array operator*(const lane_array& a, const lane_array& b) {
+        return apply(a, b, [](T x, T y) { return x * y; });
+    }
+    friend lane_array operator/(const lane_array& a, const lane_array& b) {
+        return apply(a, b, [](T x, T y) { return x / y; });
+    }
+    friend lane_array operator+(const lane_array& a, T s) { return a + all(s); }
+    friend lane_array operator+(T s, const lane_array& a) { return all(s) + a; }
+    friend lane_array operator-(const lane_array& a, T s) { return a - all(s); }
+    friend lane_array operator-(T s, const lane_array& a) { return all(s) - a; }
+    friend lane_array operator*(const lane_array& a, T s) { return a * all(s); }
+    friend lane_array operator*(T s, const lane_array& a) { return all(s) * a; }
+};
+
+template <class T, int N, class = void>
+struct lanes_of {
+    using type = lane_array<T, N>;
+};
+
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(ANIMA_NO_VECTOR_EXTENSIONS)
+template <class T, int N>
+struct lanes_of<T, N, std::enable_if_t<std::is_same_v<T, float> || std::is_same_v<T, double>>> {
+    typedef T type __attribute__((vector_size(N * sizeof(T))));
+};
+#endif
+
+/// How many lanes of T fill 16 bytes: 4 floats, 2 doubles, 1 wider scalar.
+template <class T>
+inline constexpr int lane_count = sizeof(T) < 16 ? static_cast<int>(16 / sizeof(T)) : 1;
+
+/// lane_count<T> values of T, as a vector register where there is one.
+template <class T>
+using lanes = typename lanes_of<T, lane_count<T>>::type;
+
+/// s in every lane, usable in constant expressions.
+template <class T>
+ANIMA_FORCE_INLINE constexpr lanes<T> splat(T s) {
+    if constexpr (lane_count<T> == 4)
+        return lanes<T>{s, s, s, s};
+    else if constexpr (lane_count<T> == 2)
+        return lanes<T>{s, s};
+    else
+        return lanes<T>{s};
+}
+
+/// The lanes p[0 .. lane_count - 1].
+template <class T>
+ANIMA_FORCE_INLINE lanes<T> load_lanes(const T* p) {
+    if constexpr (lane_count<T> == 4)
+        return lanes<T>{p[0], p[1], p[2], p[3]};
+    else if constexpr (lane_count<T> == 2)
+        return lanes<T>{p[0], p[1]};
+    else
+        return lanes<T>{p[0]};
+}
+
+/// A quaternion spread over 16-byte lanes: one vector of four floats, two of
+/// two doubles. The lanes hold (x, y, z, w), the order in which GLM and
+/// Eigen store their quaternions, so loading and storing need no shuffle.
+template <class T>
+struct quat_lanes {
+    static constexpr int width = lane_count<T>;
+    static constexpr int parts = 4 / width;
+    lanes<T> p[parts];
+};
+
+template <class T>
+ANIMA_FORCE_INLINE quat_lanes<T> to_lanes(const quat4<T>& q) {
+    using L = lanes<T>;
+    if constexpr (lane_count<T> == 4)
+        return {{L{q.x, q.y, q.z, q.w}}};
+    else if constexpr (lane_count<T> == 2)
+        return {{L{q.x, q.y}, L{q.z, q.w}}};
+    else
+        return {{L{q.x}, L{q.y}, L{q.z}, L{q.w}}};
+}
+
+template <class T>
+ANIMA_FORCE_INLINE quat4<T> from_lanes(const quat_lanes<T>& q) {
+    if constexpr (lane_count<T> == 4)
+        return {q.p[0][3], q.p[0][0], q.p[0][1], q.p[0][2]};
+    else if constexpr (lane_count<T> == 2)
+        return {q.p[1][1], q.p[0][0], q.p[0][1], q.p[1][0]};
+    else
+        return {q.p[3][0], q.p[0][0], q.p[1][0], q.p[2][0]};
+}
+
+/// a.b of two quaternions in lanes.
+template <class T>
+ANIMA_FORCE_INLINE T dot_lanes(const quat_lanes<T>& a, const quat_lanes<T>& b) {
+    lanes<T> s = a.p[0] * b.p[0];
+    for (int i = 1; i < quat_lanes<T>::parts; ++i) s = s + a.p[i] * b.p[i];
+    if constexpr (lane_count<T> == 4)
+        return (s[0] + s[1]) + (s[2] + s[3]);
+    else if constexpr (lane_count<T> == 2)
+        return s[0] + s[1];
+    else
+        return s[0];
+}
+
+/// a k0 + b k1.
+template <class T>
+ANIMA_FORCE_INLINE quat_lanes<T> blend_lanes(const quat_lanes<T>& a, T k0, const quat_lanes<T>& b, T k1) {
+    quat_lanes<T> r;
+    for (int i = 0; i < quat_lanes<T>::parts; ++i) r.p[i] = a.p[i] * k0 + b.p[i] * k1;
+    return r;
+}
+
+}  // namespace anima::detail
