@@ -61,6 +61,51 @@ struct lm_ik_workspace {
     std::vector<unsigned char> locked;
 };
 
+/// The damped step w.h from w.normal and w.g at x, with damping mu scaled by
+/// the normal matrix's diagonal. With `limits`, DOFs the step pushes past a
+/// limit are fixed on it and the rest solved again (up to four passes).
+/// False when the damped matrix cannot be factored.
+template <class T>
+bool limited_damped_step(lm_ik_workspace<T>& w, const ik_vector<T>& x, const ik_vector<T>& lo,
+                         const ik_vector<T>& hi, T mu, bool limits) {
+    const int n = static_cast<int>(x.size());
+    const T tiny = std::numeric_limits<T>::min() / std::numeric_limits<T>::epsilon();
+    const T floor = std::numeric_limits<T>::epsilon() * std::max(w.normal.diagonal().maxCoeff(), tiny);
+    std::fill(w.locked.begin(), w.locked.end(), static_cast<unsigned char>(0));
+    w.fixed.setZero(n);
+    for (int pass = 0; pass < 4; ++pass) {
+        w.damped = w.normal;
+        w.rhs.noalias() = w.g - w.normal * w.fixed;
+        for (int i = 0; i < n; ++i) {
+            if (w.locked[static_cast<std::size_t>(i)]) {
+                w.damped.row(i).setZero();
+                w.damped.col(i).setZero();
+                w.damped(i, i) = T(1);
+                w.rhs[i] = T(0);
+            } else {
+                w.damped(i, i) += mu * std::max(w.normal(i, i), floor);
+            }
+        }
+        w.llt.compute(w.damped);
+        if (w.llt.info() != Eigen::Success) return false;
+        w.h = w.llt.solve(w.rhs);
+        w.h += w.fixed;
+        if (!limits) return true;
+        bool more = false;
+        for (int k = 0; k < n; ++k) {
+            if (w.locked[static_cast<std::size_t>(k)]) continue;
+            const T next = x[k] + w.h[k];
+            if (next < lo[k] || next > hi[k]) {
+                w.fixed[k] = (next < lo[k] ? lo[k] : hi[k]) - x[k];
+                w.locked[static_cast<std::size_t>(k)] = 1;
+                more = true;
+            }
+        }
+        if (!more) return true;
+    }
+    return true;
+}
+
 /// One Levenberg-Marquardt attempt from x0, on preallocated buffers. With
 /// `chart` null the variables are the DOFs and the limits are inside the
 /// step: the damped Gauss-Newton step (J'J + mu D) h = J'r is solved for
@@ -119,44 +164,7 @@ optimize_result<T> lm_attempt(const kinematic_tree<T>& tree, const std::vector<i
     res.status = optimize_status::max_iterations;
     while (res.iterations < p.max_iterations) {
         ++res.iterations;
-        // The step, with DOFs pushed past a limit fixed on it.
-        const T floor = std::numeric_limits<T>::epsilon() * std::max(w.normal.diagonal().maxCoeff(), tiny);
-        std::fill(w.locked.begin(), w.locked.end(), static_cast<unsigned char>(0));
-        w.fixed.setZero(n);
-        bool solved = true;
-        for (int pass = 0; pass < 4; ++pass) {
-            w.damped = w.normal;
-            w.rhs.noalias() = w.g - w.normal * w.fixed;
-            for (int i = 0; i < n; ++i) {
-                if (w.locked[static_cast<std::size_t>(i)]) {
-                    w.damped.row(i).setZero();
-                    w.damped.col(i).setZero();
-                    w.damped(i, i) = T(1);
-                    w.rhs[i] = T(0);
-                } else {
-                    w.damped(i, i) += mu * std::max(w.normal(i, i), floor);
-                }
-            }
-            w.llt.compute(w.damped);
-            if (w.llt.info() != Eigen::Success) {
-                solved = false;
-                break;
-            }
-            w.h = w.llt.solve(w.rhs);
-            w.h += w.fixed;
-            if (!limits) break;
-            bool more = false;
-            for (int k = 0; k < n; ++k) {
-                if (w.locked[static_cast<std::size_t>(k)]) continue;
-                const T next = x[k] + w.h[k];
-                if (next < lo[k] || next > hi[k]) {
-                    w.fixed[k] = (next < lo[k] ? lo[k] : hi[k]) - x[k];
-                    w.locked[static_cast<std::size_t>(k)] = 1;
-                    more = true;
-                }
-            }
-            if (!more) break;
-        }
+        const bool solved = limited_damped_step(w, x, lo, hi, mu, limits);
         bool accepted = false;
         if (solved && w.h.allFinite()) {
             w.trial_x = x + w.h;
