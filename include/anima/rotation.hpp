@@ -9,6 +9,7 @@
 #include <anima/rotation/lerp.hpp>
 #include <anima/rotation/quat_traits.hpp>
 #include <anima/rotation/quaternion.hpp>
+#include <anima/rotation/shortest_arc.hpp>
 #include <anima/rotation/slerp.hpp>
 #include <anima/rotation/squad.hpp>
 #include <anima/rotation/swing_twist.hpp>

@@ -946,8 +946,6 @@ TEST_CASE("guess_up_axis and guess_units on synthetic figures") {
     }
 }
 
-// Double only: change_up_axis instantiates Eigen's FromTwoVectors (a JacobiSVD),
-// which costs seconds of compile time per scalar type; rotate_clip is generic.
 TEST_CASE("change_up_axis rotates every global position by R") {
     using T = double;
     using V = Eigen::Matrix<T, 3, 1>;

@@ -7,6 +7,7 @@
 #include <anima/rotation/axis_angle.hpp>
 #include <anima/rotation/exp_log.hpp>
 #include <anima/rotation/quaternion.hpp>
+#include <anima/rotation/shortest_arc.hpp>
 #include <anima/rotation/detail/so3.hpp>
 
 #include <unsupported/Eigen/AutoDiff>
@@ -264,6 +265,68 @@ TEST_CASE_TEMPLATE("axis-angle conversions", Q, ANIMA_QUAT_TYPES) {
         CHECK(std::abs(aa.angle - anima::angle(u)) <= 2 * e);
         CHECK(angle_between(to_lq(u), rot(aa.angle, to_vec(aa.axis))) <= 8 * e);
     }
+}
+
+TEST_CASE_TEMPLATE("shortest_arc turns a onto b by the angle between them, also when they nearly oppose", Q,
+                   ANIMA_QUAT_TYPES) {
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    // The error of q(a) against b, of q's angle against the angle between a
+    // and b, and of q's axis against perpendicular to a, all in long double
+    // from the T-rounded inputs.
+    const auto check = [&](const vec& a0, const vec& b0, ld scale_a, ld scale_b) {
+        const vector3<Q> va = make_vec<Q>({scale_a * a0[0], scale_a * a0[1], scale_a * a0[2]});
+        const vector3<Q> vb = make_vec<Q>({scale_b * b0[0], scale_b * b0[1], scale_b * b0[2]});
+        const Q q = anima::shortest_arc<Q>(va, vb);
+        REQUIRE(finite(q));
+        CHECK(norm_error(q) <= 4 * e);
+        vec a = to_vec(va), b = to_vec(vb);
+        const ld na = vnorm(a), nb = vnorm(b);
+        for (auto& x : a) x /= na;
+        for (auto& x : b) x /= nb;
+        const vec qa = rotate(unit(to_lq(q)), a);
+        CHECK(vdiff(qa, b) <= 8 * e);
+        const vec c{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        const ld angle = std::atan2(vnorm(c), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+        CHECK(std::abs(angle_between(lq{1, 0, 0, 0}, to_lq(q)) - angle) <= 8 * e);
+        const lq p = to_lq(q);
+        CHECK(std::abs(p.x * a[0] + p.y * a[1] + p.z * a[2]) <= 4 * e);  // the axis is perpendicular to a
+    };
+    rng r(23);
+    for (int i = 0; i < 200; ++i) {
+        const vec a = r.unit_vector(), b = r.unit_vector();
+        check(a, b, r.uniform(0.01, 100), r.uniform(0.01, 100));
+        // Nearly the same and nearly opposite directions: b = +-a tilted by delta.
+        const vec u = r.unit_vector();
+        vec perp{a[1] * u[2] - a[2] * u[1], a[2] * u[0] - a[0] * u[2], a[0] * u[1] - a[1] * u[0]};
+        const ld np = vnorm(perp);
+        for (auto& x : perp) x /= np;
+        for (const ld delta : {1e-2L, 1e-4L, 1e-6L, 1e-9L, 0.0L}) {
+            for (const ld sign : {1.0L, -1.0L}) {
+                const vec t{sign * a[0] * std::cos(delta) + perp[0] * std::sin(delta),
+                            sign * a[1] * std::cos(delta) + perp[1] * std::sin(delta),
+                            sign * a[2] * std::cos(delta) + perp[2] * std::sin(delta)};
+                check(a, t, 1, r.uniform(0.5, 2));
+            }
+        }
+    }
+    // Exactly opposite coordinate axes: a half turn about a perpendicular axis.
+    for (int k = 0; k < 3; ++k) {
+        vec a{0, 0, 0};
+        a[k] = 1;
+        check(a, vec{-a[0], -a[1], -a[2]}, 1, 3);
+        const Q q = anima::shortest_arc<Q>(make_vec<Q>(a), make_vec<Q>({-a[0], -a[1], -a[2]}));
+        CHECK(std::abs(to_lq(q).w) <= e);
+    }
+    CHECK(diff(anima::shortest_arc<Q>(make_vec<Q>({1, 2, 3}), make_vec<Q>({2, 4, 6})), anima::identity<Q>()) == 0);
+    CHECK_THROWS_AS(anima::shortest_arc<Q>(make_vec<Q>({0, 0, 0}), make_vec<Q>({1, 0, 0})), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::shortest_arc<Q>(make_vec<Q>({1, 0, 0}), make_vec<Q>({std::nan(""), 0, 0})),
+                    anima::invalid_argument);
+    CHECK_THROWS_AS(anima::shortest_arc<Q>(make_vec<Q>({1, 0, 0}), make_vec<Q>({0, 0, HUGE_VALL})),
+                    anima::invalid_argument);
+    // Lengths whose squares over- or underflow T.
+    for (const ld s : {1e-30L, 1e30L, ld(std::numeric_limits<T>::denorm_min()), ld(std::numeric_limits<T>::max())})
+        check(vec{0.6L, 0, 0.8L}, vec{0, 1, 0}, s, 1);
 }
 
 TEST_CASE_TEMPLATE("angular velocity of a constant-rate rotation", Q, ANIMA_QUAT_TYPES) {

@@ -13,6 +13,7 @@
 #include <anima/flight/flight_objective.hpp>
 #include <anima/flight/key_trajectory.hpp>
 #include <anima/motion/skeleton.hpp>
+#include <anima/rotation/shortest_arc.hpp>
 
 #include <Eigen/Geometry>
 
@@ -91,8 +92,8 @@ flight_keys<T> somersault_keys(const skeleton<T>& sk, const somersault_params<T>
         for (std::size_t j : {lower_back, spine, spine1}) rot[j] = rx(q.trunk / T(3));
         rot[l_up] = rot[r_up] = rx(-q.hip);
         rot[l_leg] = rot[r_leg] = rx(q.knee);
-        rot[l_arm] = quat::FromTwoVectors(vector3::UnitX(), q.arm);
-        rot[r_arm] = quat::FromTwoVectors(-vector3::UnitX(), q.arm);
+        rot[l_arm] = shortest_arc<quat>(vector3::UnitX(), q.arm);
+        rot[r_arm] = shortest_arc<quat>(-vector3::UnitX(), q.arm);
         rot[l_fore] = ry(-q.elbow);
         rot[r_fore] = ry(q.elbow);
         keys.rotations.push_back(std::move(rot));

@@ -15,6 +15,7 @@
 #include <anima/ik/kinematic_tree.hpp>
 #include <anima/ik/solve.hpp>
 #include <anima/rotation/exp_log.hpp>
+#include <anima/rotation/shortest_arc.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -42,13 +43,13 @@ Eigen::Quaternion<T> ccd_world_rotation(const ik_state<T>& s, const ik_goal<T>& 
     using vec3 = Eigen::Matrix<T, 3, 1>;
     using quat = Eigen::Quaternion<T>;
     if (g.has_orientation() && (ju == g.joint || !g.has_position())) {
-        if (g.kind == ik_goal_kind::aim) return quat::FromTwoVectors(s.orientations[g.joint] * g.axis, g.direction);
+        if (g.kind == ik_goal_kind::aim) return shortest_arc<quat>(s.orientations[g.joint] * g.axis, g.direction);
         return (g.orientation * s.orientations[g.joint].conjugate()).normalized();
     }
     const vec3 x = effector_position(s, g);
     const vec3 a = x - s.positions[ju], b = ccd_aim_point(g, x) - s.positions[ju];
     if (a.norm() < tiny || b.norm() < tiny) return quat::Identity();
-    return quat::FromTwoVectors(a, b);
+    return shortest_arc<quat>(a, b);
 }
 
 }  // namespace detail
