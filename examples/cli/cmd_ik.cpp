@@ -3,9 +3,10 @@
 // writes the clip with that frame replaced. --offset NAME --frames A-B --by
 // X,Y,Z instead moves a joint by an offset over a frame range, and
 // --targets FILE.csv gives world targets per frame (lines
-// "frame,effector,x,y,z"); both solve frame by frame, each solve
-// warm-started from the previous frame's solution and pulled toward the
-// original frame's pose in the null space so the result stays smooth.
+// "frame,effector,x,y,z"); both solve frame by frame with
+// anima::solve_clip_ik: each frame starts from its recorded pose plus the
+// previous frame's correction and is pulled toward its recorded pose in the
+// null space, so the result stays smooth.
 #include "commands.hpp"
 #include "common.hpp"
 
@@ -133,29 +134,11 @@ struct solver_setup {
     std::unique_ptr<anima::learned_ik_model<double>> model;
 };
 
-anima::ik_result<double> run_solver(const ik_options& o, const solver_setup& s,
-                                    const std::vector<anima::ik_goal<double>>& goals, const anima::ik_vector<double>& q0,
-                                    const anima::ik_params<double>& params, long* cluster) {
-    anima::damped_least_squares<double>::params d;
-    d.adaptive = true;
-    if (o.solver == "pinv") return anima::solve_ik(s.tree, goals, q0, anima::pseudo_inverse<double>{}, params);
-    if (o.solver == "dls") return anima::solve_ik(s.tree, goals, q0, anima::damped_least_squares<double>(d), params);
-    if (o.solver == "ccd") return anima::solve_ik_ccd(s.tree, goals, q0, params);
-    if (o.solver == "lm") {
-        anima::levenberg_marquardt_ik_params<double> l;
-        l.ik = params;
-        return anima::solve_ik_levenberg_marquardt(s.tree, goals, q0, l);
-    }
-    if (o.solver == "bfgs") {
-        anima::bfgs_ik_params<double> b;
-        b.ik = params;
-        return anima::solve_ik_bfgs(s.tree, goals, q0, b);
-    }
-    anima::learned_solve_params<double> l;
-    l.ik = params;
-    auto r = anima::solve_ik_learned(s.tree, *s.model, goals, l);
-    *cluster = static_cast<long>(r.cluster);
-    return r;
+/// The library's solvers and the learned one.
+std::vector<std::string> solver_names() {
+    auto names = anima::ik_solver_names();
+    names.push_back("learned");
+    return names;
 }
 
 void run_ik(const ik_options& o) {
@@ -240,7 +223,45 @@ void run_ik(const ik_options& o) {
     }
 
     const std::size_t first = per_frame.begin()->first, last = per_frame.rbegin()->first;
-    const clip_t original = c;
+    // The goals per frame (the learned model solves for all its effectors at
+    // once, in its order).
+    std::vector<anima::frame_goals<double>> goals;
+    std::vector<wanted_list> goal_names;
+    for (const auto& [f, listed] : per_frame) {
+        const auto frame_wanted = learned ? in_model_order(listed, wanted, f) : listed;
+        const auto truth = anima::forward_kinematics(c, f);
+        anima::frame_goals<double> g{f, {}};
+        for (const auto& w : frame_wanted) {
+            const auto j = sk.index_of(w.first);
+            g.goals.push_back(anima::position_goal<double>(j, offset_mode ? vec3(truth.positions[j] + w.second) : w.second));
+        }
+        goals.push_back(std::move(g));
+        goal_names.push_back(frame_wanted);
+    }
+    // Over a range: warm starts, and a pull toward each frame's recorded pose
+    // in the null space. One frame: no pull, random restarts allowed.
+    anima::clip_ik_params<double> cp;
+    cp.ik = s.params;
+    cp.pose_pull = smooth ? 0.2 : 0.0;
+    if (smooth) cp.ik.restarts = 0;
+    cp.progress = [&](std::size_t done, std::size_t total) {
+        if (smooth && done % 20 == 0) std::cerr << "anima ik: " << done << " of " << total << " frames solved\n";
+    };
+    std::vector<long> clusters;  // of the learned solver, per frame
+    const auto solver = learned ? anima::ik_solver::damped_least_squares : anima::parse_ik_solver(o.solver);
+    const auto solve = [&](const anima::kinematic_tree<double>& tree, const std::vector<anima::ik_goal<double>>& g,
+                           const anima::ik_vector<double>& q0,
+                           const anima::ik_params<double>& params) -> anima::ik_result<double> {
+        if (!learned) return anima::solve_ik_with(solver, tree, g, q0, params);
+        anima::learned_solve_params<double> l;
+        l.ik = params;
+        auto r = anima::solve_ik_learned(tree, *s.model, g, l);
+        clusters.push_back(static_cast<long>(r.cluster));
+        return std::move(r);
+    };
+    const auto solved = anima::solve_clip_ik(s.tree, c, goals, solve, cp);
+    c = solved.edited;
+
     json effectors = json::array();
     // Per effector: the frames where it missed its target, and the worst miss.
     struct miss {
@@ -248,63 +269,29 @@ void run_ik(const ik_options& o) {
         double worst = 0;
     };
     std::map<std::string, miss> missed;
-    int iterations = 0, converged_frames = 0;
-    double worst = 0;
-    anima::ik_vector<double> previous;
-    std::size_t previous_frame = 0, done = 0;
-    for (const auto& [f, listed] : per_frame) {
-        // The learned model solves for all its effectors at once, in its order.
-        const auto frame_wanted = learned ? in_model_order(listed, wanted, f) : listed;
-        s.tree.set_base(original, f);
-        const auto truth = anima::forward_kinematics(original, f);
-        std::vector<anima::ik_goal<double>> goals;
-        for (const auto& w : frame_wanted) {
-            const auto j = sk.index_of(w.first);
-            goals.push_back(anima::position_goal<double>(j, offset_mode ? vec3(truth.positions[j] + w.second) : w.second));
-        }
-        const anima::ik_vector<double> own = s.tree.pose_of(original, f);
-        anima::ik_params<double> params = s.params;
-        if (smooth) {  // keep near the original frame, start from the last frame's solution
-            params.null_space.gain = 0.2;
-            params.null_space.reference = own;
-            params.restarts = 0;
-        }
-        const bool follows = previous.size() && f == previous_frame + 1;
-        long cluster = -1;
-        const auto r = run_solver(o, s, goals, follows ? previous : own, params, &cluster);
-        previous = r.q;
-        previous_frame = f;
-        s.tree.write_pose(r.q, c, f);
-        iterations += r.iterations;
-        converged_frames += r.converged();
-        worst = std::max(worst, r.max_position_error);
-        for (std::size_t i = 0; i < goals.size(); ++i)
-            if (r.errors[i].position > s.params.tolerance) {
-                miss& m = missed[frame_wanted[i].first];
+    for (std::size_t i = 0; i < solved.frames.size(); ++i) {
+        const std::size_t f = solved.frames[i];
+        const auto& r = solved.results[i];
+        for (std::size_t k = 0; k < goal_names[i].size(); ++k) {
+            const double error = r.errors[k].position;
+            if (error > s.params.tolerance) {
+                miss& m = missed[goal_names[i][k].first];
                 ++m.frames;
-                if (r.errors[i].position > m.worst) m.worst = r.errors[i].position, m.worst_frame = f;
+                if (error > m.worst) m.worst = error, m.worst_frame = f;
             }
-        if (!smooth || f == last)
-            for (std::size_t i = 0; i < goals.size(); ++i) {
-                json e = {{"name", frame_wanted[i].first},
-                          {"frame", f},
-                          {"error", r.errors[i].position},
-                          {"reached", r.errors[i].position <= params.tolerance},
-                          {"status", anima::to_string(r.status)}};
-                if (learned) e["cluster"] = cluster;
-                effectors.push_back(std::move(e));
-            }
-        if (smooth && ++done % 20 == 0)
-            std::cerr << "anima ik: " << done << " of " << per_frame.size() << " frames solved\n";
+            if (smooth && f != last) continue;  // a range reports its last frame
+            json e = {{"name", goal_names[i][k].first},
+                      {"frame", f},
+                      {"error", error},
+                      {"reached", error <= s.params.tolerance},
+                      {"status", anima::to_string(r.status)}};
+            if (learned) e["cluster"] = clusters[i];
+            effectors.push_back(std::move(e));
+        }
     }
-    // Largest frame-to-frame joint rotation change (degrees), before and after.
-    const auto velocity = [&](const clip_t& m) {
-        double v = 0;
-        for (std::size_t f = std::max<std::size_t>(first, 1); f <= std::min(last + 1, m.frames() - 1); ++f)
-            for (std::size_t j = 0; j < m.joints(); ++j)
-                v = std::max(v, m.rotation(f, j).angularDistance(m.rotation(f - 1, j)));
-        return v * 180 / anima::pi<double>;
-    };
+    const int iterations = solved.iterations;
+    const auto converged_frames = solved.converged_frames;
+    const double worst = solved.largest_error;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(c));
     for (const auto& [name, m] : missed) {
@@ -324,8 +311,8 @@ void run_ik(const ik_options& o) {
                 {"tolerance", s.params.tolerance},
                 {"iterations", iterations},
                 {"seconds", seconds},
-                {"max_joint_step_deg_before", velocity(original)},
-                {"max_joint_step_deg_after", velocity(c)}};
+                {"max_joint_step_deg_before", solved.max_joint_step_before * 180 / anima::pi<double>},
+                {"max_joint_step_deg_after", solved.max_joint_step_after * 180 / anima::pi<double>}};
     if (!o.output.empty()) out["output"] = o.output;
     if (o.json) {
         print_json(out);
@@ -354,7 +341,7 @@ void register_ik(CLI::App& app) {
     sub->add_option("--targets", o->targets_file, "File mode: CSV of frame,effector,x,y,z world targets")
         ->check(CLI::ExistingFile);
     sub->add_option("--solver", o->solver, "pinv, dls (adaptive damping), ccd, bfgs, lm (Levenberg-Marquardt) or learned")
-        ->check(CLI::IsMember({"pinv", "dls", "ccd", "bfgs", "lm", "learned"}));
+        ->check(CLI::IsMember(solver_names()));
     sub->add_option("--train", o->train, "Clips to learn the Jacobian inverse from (learned solver)");
     sub->add_option("--save-model", o->model_out, "Write the learned model to this file");
     sub->add_option("--tolerance", o->tolerance, "Position tolerance relative to the body scale")

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <anima/ik/bfgs_ik.hpp>
+#include <anima/ik/clip_ik.hpp>
 #include <anima/ik/ccd.hpp>
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>
@@ -13,4 +14,5 @@
 #include <anima/ik/levenberg_marquardt_ik.hpp>
 #include <anima/ik/pose_statistics.hpp>
 #include <anima/ik/solve.hpp>
+#include <anima/ik/solve_with.hpp>
 #include <anima/ik/step_rules.hpp>

@@ -1,0 +1,91 @@
+// One entry point for the library's iterative IK solvers, chosen at run
+// time: solve_ik_with(solver, tree, goals, start, params). Every solver runs
+// the same goals from the same start with the same iteration cap, tolerance,
+// limits, restarts and null-space task, so they can be swapped or compared.
+#pragma once
+
+#include <anima/core/error.hpp>
+#include <anima/ik/bfgs_ik.hpp>
+#include <anima/ik/ccd.hpp>
+#include <anima/ik/goal.hpp>
+#include <anima/ik/kinematic_tree.hpp>
+#include <anima/ik/levenberg_marquardt_ik.hpp>
+#include <anima/ik/solve.hpp>
+#include <anima/ik/step_rules.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace anima {
+
+enum class ik_solver : unsigned char {
+    pseudo_inverse,  ///< Table 1 with J+ (SVD)
+    damped_least_squares,  ///< Table 1 with adaptive damping
+    ccd,  ///< cyclic coordinate descent
+    bfgs,  ///< L-BFGS on the squared goal errors
+    levenberg_marquardt,  ///< Levenberg-Marquardt with limits in the step
+};
+
+/// Every solver, in the order of ik_solver_names().
+inline constexpr std::array<ik_solver, 5> ik_solvers = {ik_solver::pseudo_inverse, ik_solver::damped_least_squares,
+                                                        ik_solver::ccd, ik_solver::bfgs,
+                                                        ik_solver::levenberg_marquardt};
+
+/// Short names: "pinv", "dls", "ccd", "bfgs", "lm".
+inline const char* to_string(ik_solver s) {
+    switch (s) {
+        case ik_solver::pseudo_inverse: return "pinv";
+        case ik_solver::damped_least_squares: return "dls";
+        case ik_solver::ccd: return "ccd";
+        case ik_solver::bfgs: return "bfgs";
+        case ik_solver::levenberg_marquardt: return "lm";
+    }
+    return "unknown";
+}
+
+inline std::vector<std::string> ik_solver_names() {
+    std::vector<std::string> names;
+    for (const ik_solver s : ik_solvers) names.emplace_back(to_string(s));
+    return names;
+}
+
+/// The solver of a short name; anima::invalid_argument naming the choices
+/// for any other.
+inline ik_solver parse_ik_solver(const std::string& name) {
+    for (const ik_solver s : ik_solvers)
+        if (name == to_string(s)) return s;
+    std::string choices;
+    for (const auto& n : ik_solver_names()) choices += (choices.empty() ? "" : ", ") + n;
+    throw invalid_argument("anima::parse_ik_solver: '" + name + "' is not an IK solver: use " + choices);
+}
+
+/// Solves the goals with the chosen solver from `start`. The solver-specific
+/// settings keep their defaults (the damped least squares rule adapts its
+/// damping); params carries what they share.
+template <class T>
+ik_result<T> solve_ik_with(ik_solver solver, const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
+                           const ik_vector_arg<T>& start, const ik_params<T>& params = {}) {
+    switch (solver) {
+        case ik_solver::pseudo_inverse: return solve_ik(tree, goals, start, pseudo_inverse<T>{}, params);
+        case ik_solver::damped_least_squares: {
+            typename damped_least_squares<T>::params d;
+            d.adaptive = true;
+            return solve_ik(tree, goals, start, damped_least_squares<T>(d), params);
+        }
+        case ik_solver::ccd: return solve_ik_ccd(tree, goals, start, params);
+        case ik_solver::bfgs: {
+            bfgs_ik_params<T> b;
+            b.ik = params;
+            return solve_ik_bfgs(tree, goals, start, b);
+        }
+        case ik_solver::levenberg_marquardt: {
+            levenberg_marquardt_ik_params<T> l;
+            l.ik = params;
+            return solve_ik_levenberg_marquardt(tree, goals, start, l);
+        }
+    }
+    throw invalid_argument("anima::solve_ik_with: unknown solver");
+}
+
+}  // namespace anima
