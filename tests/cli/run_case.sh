@@ -14,8 +14,12 @@
 #   --absent FILE     FILE must not exist after the run
 #   --setup CMD       a bash command run in WORKDIR before the run
 #   --check CMD       a bash command run in WORKDIR after the run; must succeed
+#                     ($ANIMA and $JSON_CHECK name the two programs there)
 #   --fsize KB        also limit the size of written files (ulimit -f)
 #   --no-vm-limit     no address space limit (sanitizer builds reserve terabytes)
+#   --json ASSERTION  stdout must be one JSON value for which ASSERTION holds
+#                     (repeatable; see json_check.cpp for the assertions)
+#   --json-tool PATH  the json_check program
 # After every run, stderr must be printable text (no control bytes) and no
 # temporary file of the atomic writer may be left behind.
 set -u
@@ -24,6 +28,7 @@ anima=$1 work=$2
 shift 2
 expect_exit=0 vm_limit=1 fsize=""
 stderr_has=() stderr_lacks=() stdout_has=() keep=() absent=() setup=() checks=() quiet=0
+json=() json_tool=""
 while [[ $# -gt 0 && $1 != "--" ]]; do
   case $1 in
     --exit) expect_exit=$2; shift 2 ;;
@@ -37,6 +42,8 @@ while [[ $# -gt 0 && $1 != "--" ]]; do
     --check) checks+=("$2"); shift 2 ;;
     --fsize) fsize=$2; shift 2 ;;
     --no-vm-limit) vm_limit=0; shift ;;
+    --json) json+=("$2"); shift 2 ;;
+    --json-tool) json_tool=$2; shift 2 ;;
     *) echo "run_case.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -78,5 +85,10 @@ for f in "${keep[@]+"${keep[@]}"}"; do cmp -s "$f" "$f.expected" || report "$f w
 for f in "${absent[@]+"${absent[@]}"}"; do [[ -e $f ]] && report "$f was written"; done
 leftover=$(find . -name '.*.tmp' | head -n 1)
 [[ -n $leftover ]] && report "temporary file left behind: $leftover"
+export ANIMA=$anima JSON_CHECK=$json_tool
 for c in "${checks[@]+"${checks[@]}"}"; do bash -c "$c" || report "check failed: $c"; done
+if [[ ${#json[@]} -gt 0 ]]; then
+  if [[ -z $json_tool ]]; then report "--json needs --json-tool"
+  else "$json_tool" stdout.txt "${json[@]}" || report "JSON assertions failed"; fi
+fi
 exit $fail
