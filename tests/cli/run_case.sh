@@ -17,6 +17,8 @@
 #                     ($ANIMA and $JSON_CHECK name the two programs there)
 #   --fsize KB        also limit the size of written files (ulimit -f)
 #   --no-vm-limit     no address space limit (sanitizer builds reserve terabytes)
+#   --timeout S       the time limit in seconds (default 10; sanitizer builds
+#                     run unoptimised code several times slower)
 #   --json ASSERTION  stdout must be one JSON value for which ASSERTION holds
 #                     (repeatable; see json_check.cpp for the assertions)
 #   --json-tool PATH  the json_check program
@@ -26,7 +28,7 @@ set -u
 
 anima=$1 work=$2
 shift 2
-expect_exit=0 vm_limit=1 fsize=""
+expect_exit=0 vm_limit=1 fsize="" time_limit=10
 stderr_has=() stderr_lacks=() stdout_has=() keep=() absent=() setup=() checks=() quiet=0
 json=() json_tool=""
 while [[ $# -gt 0 && $1 != "--" ]]; do
@@ -42,6 +44,7 @@ while [[ $# -gt 0 && $1 != "--" ]]; do
     --check) checks+=("$2"); shift 2 ;;
     --fsize) fsize=$2; shift 2 ;;
     --no-vm-limit) vm_limit=0; shift ;;
+    --timeout) time_limit=$2; shift 2 ;;
     --json) json+=("$2"); shift 2 ;;
     --json-tool) json_tool=$2; shift 2 ;;
     *) echo "run_case.sh: unknown option $1" >&2; exit 2 ;;
@@ -62,7 +65,7 @@ done
   [[ $vm_limit == 1 ]] && ulimit -v 1048576
   [[ -n $fsize ]] && ulimit -f "$fsize"
   trap '' XFSZ
-  exec timeout 10 "$anima" "$@"
+  exec timeout "$time_limit" "$anima" "$@"
 ) >stdout.txt 2>stderr.txt
 status=$?
 
@@ -73,7 +76,7 @@ echo "exit $status"
 echo "--- stderr"; cat stderr.txt
 echo "--- stdout (first 20 lines)"; head -n 20 stdout.txt
 
-[[ $status == 124 ]] && report "timed out after 10 s"
+[[ $status == 124 ]] && report "timed out after $time_limit s"
 [[ $status == "$expect_exit" ]] || report "exit status $status, expected $expect_exit"
 for t in "${stderr_has[@]+"${stderr_has[@]}"}"; do grep -qF -- "$t" stderr.txt || report "stderr lacks: $t"; done
 for t in "${stderr_lacks[@]+"${stderr_lacks[@]}"}"; do grep -qF -- "$t" stderr.txt && report "stderr has: $t"; done
