@@ -80,40 +80,6 @@ std::vector<std::size_t> choose_frames(const render_options& o, std::size_t fram
     return out;
 }
 
-/// The figure's left direction in its rest pose: from the mean of its right
-/// joints to the mean of its left joints, snapped to the horizontal axis it is
-/// closest to. Without left/right joint names: the horizontal axis along which
-/// the rest pose is widest.
-anima::signed_axis left_axis(const skeleton_t& sk, anima::signed_axis up) {
-    const auto [joints, ends] = anima::rest_positions(sk);
-    vec3 left = vec3::Zero(), right = vec3::Zero();
-    int nl = 0, nr = 0;
-    for (std::size_t j = 0; j < sk.size(); ++j) {
-        const body_side s = side_of(sk[j].name);
-        if (s == body_side::left) left += joints[j], ++nl;
-        if (s == body_side::right) right += joints[j], ++nr;
-    }
-    const int u = static_cast<int>(up.axis);
-    const int h0 = (u + 1) % 3, h1 = (u + 2) % 3;
-    if (nl > 0 && nr > 0) {
-        const vec3 d = left / nl - right / nr;
-        const int k = std::abs(d[h0]) >= std::abs(d[h1]) ? h0 : h1;
-        if (std::abs(d[k]) > 1e-9) return {static_cast<anima::axis>(k), d[k] < 0 ? -1 : 1};
-    }
-    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    bool first = true;
-    const auto extend = [&](const vec3& p) {
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = first ? p[k] : std::min(lo[k], p[k]);
-            hi[k] = first ? p[k] : std::max(hi[k], p[k]);
-        }
-        first = false;
-    };
-    for (const auto& p : joints) extend(p);
-    for (const auto& p : ends) extend(p);
-    return {static_cast<anima::axis>(hi[h0] - lo[h0] >= hi[h1] - lo[h1] ? h0 : h1), 1};
-}
-
 struct view_basis {
     vec3 right;     ///< world direction drawn to the right
     vec3 up;        ///< world direction drawn upwards
@@ -131,7 +97,7 @@ view_basis make_view(const std::string& view, anima::signed_axis up_axis, anima:
 
 struct segment {
     double x1, y1, x2, y2, depth;
-    body_side side;
+    anima::body_side side;
 };
 
 struct panel {
@@ -139,8 +105,8 @@ struct panel {
     std::vector<segment> segments;
 };
 
-const char* colour(body_side s) {
-    return s == body_side::left ? colour_left : s == body_side::right ? colour_right : colour_centre;
+const char* colour(anima::body_side s) {
+    return s == anima::body_side::left ? colour_left : s == anima::body_side::right ? colour_right : colour_centre;
 }
 
 void run_render(const render_options& o) {
@@ -159,7 +125,7 @@ void run_render(const render_options& o) {
                       << "' (no head, neck or foot joint); assuming " << anima::to_string(up)
                       << ", use --up to say otherwise\n";
     }
-    const view_basis basis = make_view(o.view, up, left_axis(sk, up));
+    const view_basis basis = make_view(o.view, up, anima::left_axis(sk, up));
 
     // Project every chosen frame, each relative to its root's horizontal
     // position so that the figures stay centred in their panels.
@@ -178,7 +144,7 @@ void run_render(const render_options& o) {
             ymin = std::min(ymin, y), ymax = std::max(ymax, y);
         };
         panel pn{f, {}};
-        const auto add = [&](const vec3& a, const vec3& b, body_side side) {
+        const auto add = [&](const vec3& a, const vec3& b, anima::body_side side) {
             if ((a - b).norm() < 1e-9) return;
             segment s{};
             project(a, s.x1, s.y1);
@@ -188,7 +154,7 @@ void run_render(const render_options& o) {
             pn.segments.push_back(s);
         };
         for (std::size_t j = 0; j < sk.size(); ++j) {
-            const body_side side = side_of(sk[j].name);
+            const anima::body_side side = anima::side_of(sk[j].name);
             if (sk[j].parent >= 0) add(pose.positions[static_cast<std::size_t>(sk[j].parent)], pose.positions[j], side);
             if (sk[j].end_site) add(pose.positions[j], ends[j], side);
         }

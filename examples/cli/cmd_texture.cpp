@@ -43,35 +43,6 @@ double seconds_since(clock_type::time_point t) {
     return std::chrono::duration<double>(clock_type::now() - t).count();
 }
 
-/// The frames the clip's motion starts at when frame 0 is the skeleton's
-/// rest pose (the T-pose some exporters put first) followed by frames that
-/// swing out of it: the first frame whose joint speeds are ordinary again.
-/// 0 when frame 0 is not a rest pose.
-std::size_t rest_pose_lead_in(const clip_t& c) {
-    if (c.frames() < 8) return 0;
-    const double still = anima::radians(1.0), near_rest = anima::radians(10.0);
-    bool moves = false;
-    for (std::size_t j = 0; j < c.joints(); ++j) {
-        bool joint_moves = false;
-        for (std::size_t f = 1; f < c.frames() && !joint_moves; ++f)
-            joint_moves = anima::angle_between(c.rotation(0, j), c.rotation(f, j)) > still;
-        if (!joint_moves) continue;
-        moves = true;
-        if (anima::angle_between(Eigen::Quaterniond::Identity(), c.rotation(0, j)) > near_rest) return 0;
-    }
-    if (!moves) return 0;
-    // Summed joint speed per step; ordinary is within twice the median.
-    std::vector<double> speed(c.frames() - 1, 0.0);
-    for (std::size_t f = 1; f < c.frames(); ++f)
-        for (std::size_t j = 0; j < c.joints(); ++j) speed[f - 1] += anima::angle_between(c.rotation(f - 1, j), c.rotation(f, j));
-    std::vector<double> sorted = speed;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-    const double median = sorted[sorted.size() / 2];
-    for (std::size_t f = 1; f < speed.size(); ++f)
-        if (speed[f] < 2 * median) return f;
-    return 1;
-}
-
 /// Viridis-like colour map, t in [0, 1].
 void colour(double t, unsigned char* rgb) {
     static const double stops[][3] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
@@ -178,7 +149,7 @@ void run_texture(const texture_options& o) {
         throw failure("--first " + std::to_string(first) + " is outside '" + o.input + "' (" +
                       std::to_string(whole.frames()) + " frames)");
     if (!first_given) {
-        first = rest_pose_lead_in(whole);
+        first = anima::rest_pose_lead_in(whole);
         if (first > 0)
             std::cerr << "anima: note: frame 0 of '" << o.input << "' is the skeleton's rest pose"
                       << (first > 1 ? " and frames 1.." + std::to_string(first - 1) + " swing out of it" : "")

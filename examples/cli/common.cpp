@@ -325,26 +325,6 @@ std::string channel_list(const std::vector<anima::channel>& channels) {
 }
 
 // ---------------------------------------------------------------------------
-// Body sides
-// ---------------------------------------------------------------------------
-
-body_side side_of(std::string_view name) {
-    std::string lower(name);
-    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (lower.find("left") != std::string::npos) return body_side::left;
-    if (lower.find("right") != std::string::npos) return body_side::right;
-    if (name.size() >= 2) {
-        const char second = name[1];
-        const bool separated = std::isupper(static_cast<unsigned char>(second)) ||
-                               std::isdigit(static_cast<unsigned char>(second)) || second == '_' || second == '-' ||
-                               second == '.' || second == ':';
-        if (separated && (name[0] == 'l' || name[0] == 'L')) return body_side::left;
-        if (separated && (name[0] == 'r' || name[0] == 'R')) return body_side::right;
-    }
-    return body_side::centre;
-}
-
-// ---------------------------------------------------------------------------
 // SVG
 // ---------------------------------------------------------------------------
 
@@ -474,65 +454,6 @@ void add_frame_range_options(CLI::App& sub, frame_range_options& o) {
                    ->check(signed_axis_validator());
 }
 
-namespace {
-
-/// Whether the first frame has every joint that moves during the clip (by
-/// more than a degree) within `degrees` of its rest orientation. Joints that
-/// never move, such as uncaptured fingers, may be held at any angle.
-bool starts_at_rest_pose(const clip_t& c, double degrees) {
-    const double limit = anima::radians(degrees), still = anima::radians(1.0);
-    bool moves = false;
-    for (std::size_t j = 0; j < c.joints(); ++j) {
-        const Eigen::Quaterniond first = c.rotation(0, j);
-        bool joint_moves = false;
-        for (std::size_t f = 1; f < c.frames() && !joint_moves; ++f)
-            joint_moves = anima::angle_between(first, c.rotation(f, j)) > still;
-        if (!joint_moves) continue;
-        moves = true;
-        if (anima::angle_between(Eigen::Quaterniond::Identity(), first) > limit) return false;
-    }
-    return moves;
-}
-
-double median_of(std::vector<double> v) {
-    if (v.empty()) return 0;
-    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
-}
-
-/// Where motion that starts by swinging out of a rest pose settles down: the
-/// first frame f >= 1 whose step to f + 1 is ordinary, that is, for the
-/// median DOF, less than `factor` times that DOF's median step over the
-/// clip. 0 when it cannot tell.
-std::size_t settled_frame(const Eigen::MatrixXd& features, double factor) {
-    const Eigen::Index n = features.rows();
-    if (n < 4) return 0;
-    const Eigen::MatrixXd steps = (features.bottomRows(n - 1) - features.topRows(n - 1)).cwiseAbs();
-    std::vector<double> median_step(static_cast<std::size_t>(steps.cols()));
-    for (Eigen::Index d = 0; d < steps.cols(); ++d)
-        median_step[static_cast<std::size_t>(d)] =
-            median_of(std::vector<double>(steps.col(d).data(), steps.col(d).data() + steps.rows()));
-    // DOFs that do not move (or only by rounding noise) say nothing.
-    const double floor = 1e-6 * *std::max_element(median_step.begin(), median_step.end());
-    std::vector<Eigen::Index> moving;
-    std::vector<double> typical;
-    for (Eigen::Index d = 0; d < steps.cols(); ++d)
-        if (median_step[static_cast<std::size_t>(d)] > floor) {
-            moving.push_back(d);
-            typical.push_back(median_step[static_cast<std::size_t>(d)]);
-        }
-    if (moving.empty()) return 0;
-    for (Eigen::Index f = 1; f < steps.rows(); ++f) {
-        std::vector<double> ratio;
-        for (std::size_t k = 0; k < moving.size(); ++k) ratio.push_back(steps(f, moving[k]) / typical[k]);
-        if (median_of(ratio) < factor) return static_cast<std::size_t>(f);
-    }
-    return 0;
-}
-
-}  // namespace
-
 motion_range load_motion_range(const std::string& path, const frame_range_options& o) {
     const std::string text = read_text_file(path);
     const clip_t whole = anima::to_clip(anima::parse_bvh_document<double>(text, path));
@@ -570,8 +491,7 @@ motion_range load_motion_range(const std::string& path, const frame_range_option
     // A rest pose (T-pose) that an exporter put before the motion, often
     // followed by a few frames that swing out of it: their large steps would
     // inflate Eq 2's velocity variances, and they are no motion to play.
-    if (out.clip.frames() > 1 && starts_at_rest_pose(out.clip, 10.0)) {
-        const std::size_t settled = std::max<std::size_t>(1, settled_frame(out.features, 2.0));
+    if (const std::size_t settled = anima::rest_pose_lead_in(out.clip)) {
         std::cerr << "anima: warning: frame " << o.first << " of '" << path
                   << "' is the skeleton's rest pose, not motion";
         if (settled > 1)

@@ -158,17 +158,6 @@ std::vector<std::string> rotation_orders(const skeleton_t& skeleton);
 /// "Zrotation Xrotation Yrotation".
 std::string channel_list(const std::vector<anima::channel>& channels);
 
-// ---------------------------------------------------------------------------
-// Body sides
-// ---------------------------------------------------------------------------
-
-enum class body_side { centre, left, right };
-
-/// The side of the body a joint is on, from its name: names containing
-/// "left" / "right" (any case), or starting with l / L (r / R) followed by an
-/// upper-case letter, a digit, '_', '-', '.' or ':' (lShldr, LHipJoint,
-/// L_Foot). "LowerBack" and "Root" are centre joints.
-body_side side_of(std::string_view joint_name);
 
 // ---------------------------------------------------------------------------
 // SVG

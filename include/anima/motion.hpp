@@ -2,6 +2,7 @@
 // velocities, the frames x DOF view, figure guesses and reorientation.
 #pragma once
 
+#include <anima/motion/body_sides.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/dof_view.hpp>
 #include <anima/motion/figure.hpp>
@@ -10,5 +11,6 @@
 #include <anima/motion/reorient.hpp>
 #include <anima/motion/resample.hpp>
 #include <anima/motion/resequence.hpp>
+#include <anima/motion/rest_pose.hpp>
 #include <anima/motion/skeleton.hpp>
 #include <anima/motion/velocities.hpp>
