@@ -22,6 +22,7 @@
 #include <anima/bvh/reader.hpp>
 #include <anima/core/random.hpp>
 #include <anima/poisson.hpp>
+#include <anima/texture/motion_smoothing.hpp>
 
 #include <benchmark/benchmark.h>
 

@@ -13,8 +13,8 @@
 //   pipeline         anima::make_motion_texture; counters: each stage's own time (ms)
 #include <anima/bvh/reader.hpp>
 #include <anima/motion/dof_view.hpp>
-#include <anima/symmetry/frame_distance.hpp>
-#include <anima/symmetry/frame_features.hpp>
+#include <anima/motion/frame_distance.hpp>
+#include <anima/motion/frame_features.hpp>
 #include <anima/texture.hpp>
 
 #include <benchmark/benchmark.h>

@@ -6,6 +6,7 @@
 #include <anima/bvh.hpp>
 #include <anima/motion.hpp>
 #include <anima/poisson.hpp>
+#include <anima/texture/motion_smoothing.hpp>
 
 #include <cmath>
 #include <cstdio>

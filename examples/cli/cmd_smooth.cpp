@@ -7,6 +7,7 @@
 #include "common.hpp"
 
 #include <anima/poisson.hpp>
+#include <anima/texture/motion_smoothing.hpp>
 
 #include <CLI/CLI.hpp>
 

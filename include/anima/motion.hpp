@@ -8,6 +8,9 @@
 #include <anima/motion/figure.hpp>
 #include <anima/motion/finite_difference.hpp>
 #include <anima/motion/forward_kinematics.hpp>
+#include <anima/motion/frame_distance.hpp>
+#include <anima/motion/frame_features.hpp>
+#include <anima/motion/joint_roles.hpp>
 #include <anima/motion/reorient.hpp>
 #include <anima/motion/resample.hpp>
 #include <anima/motion/resequence.hpp>

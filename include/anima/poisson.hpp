@@ -9,7 +9,6 @@
 #include <anima/poisson/gradient_field.hpp>
 #include <anima/poisson/grid.hpp>
 #include <anima/poisson/laplacian.hpp>
-#include <anima/poisson/motion_smoothing.hpp>
 #include <anima/poisson/multigrid_poisson.hpp>
 #include <anima/poisson/problem.hpp>
 #include <anima/poisson/real_transforms.hpp>

@@ -4,8 +4,6 @@
 #pragma once
 
 #include <anima/motion/resequence.hpp>
-#include <anima/symmetry/frame_distance.hpp>
-#include <anima/symmetry/frame_features.hpp>
 #include <anima/symmetry/symmetric_playback.hpp>
 #include <anima/symmetry/symmetry_scores.hpp>
 #include <anima/symmetry/video_texture.hpp>

@@ -4,7 +4,6 @@
 
 #include <anima/transition/baselines.hpp>
 #include <anima/transition/classify.hpp>
-#include <anima/transition/joint_roles.hpp>
 #include <anima/transition/metrics.hpp>
 #include <anima/transition/placement.hpp>
 #include <anima/transition/timing.hpp>

@@ -6,7 +6,7 @@
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/dof_view.hpp>
-#include <anima/poisson/motion_smoothing.hpp>
+#include <anima/texture/motion_smoothing.hpp>
 
 #include <doctest/doctest.h>
 

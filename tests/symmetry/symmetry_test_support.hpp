@@ -6,7 +6,7 @@
 #include <anima/bvh/reader.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
-#include <anima/symmetry/frame_features.hpp>
+#include <anima/motion/frame_features.hpp>
 
 #include <Eigen/Core>
 

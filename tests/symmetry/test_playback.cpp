@@ -7,8 +7,8 @@
 #include <anima/core/random.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/resequence.hpp>
-#include <anima/symmetry/frame_distance.hpp>
-#include <anima/symmetry/frame_features.hpp>
+#include <anima/motion/frame_distance.hpp>
+#include <anima/motion/frame_features.hpp>
 #include <anima/symmetry/symmetric_playback.hpp>
 #include <anima/symmetry/symmetry_scores.hpp>
 #include <anima/symmetry/video_texture.hpp>

@@ -9,8 +9,8 @@
 #include <anima/motion/dof_view.hpp>
 #include <anima/motion/figure.hpp>
 #include <anima/motion/resequence.hpp>
-#include <anima/symmetry/frame_distance.hpp>
-#include <anima/symmetry/frame_features.hpp>
+#include <anima/motion/frame_distance.hpp>
+#include <anima/motion/frame_features.hpp>
 #include <anima/symmetry/symmetric_playback.hpp>
 #include <anima/symmetry/symmetry_scores.hpp>
 

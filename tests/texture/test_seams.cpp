@@ -8,7 +8,7 @@
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
 #include <anima/maxflow/capacity.hpp>
-#include <anima/symmetry/frame_distance.hpp>
+#include <anima/motion/frame_distance.hpp>
 #include <anima/texture/overlap_search.hpp>
 #include <anima/texture/seam_blend.hpp>
 #include <anima/texture/seam_cost.hpp>

@@ -1,4 +1,4 @@
-// What every optimiser returns, and the vector/matrix aliases they use.
+// What every optimiser returns.
 #pragma once
 
 #include <cmath>
@@ -9,14 +9,10 @@
 
 #include <Eigen/Core>
 
+#include <anima/core/eigen_types.hpp>
 #include <anima/core/error.hpp>
 
 namespace anima {
-
-template <class T>
-using vector_x = Eigen::Matrix<T, Eigen::Dynamic, 1>;
-template <class T>
-using matrix_x = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
 
 /// Why an optimiser stopped.
 enum class optimize_status {

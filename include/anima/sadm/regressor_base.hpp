@@ -6,7 +6,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
-#include <anima/optimize/result.hpp>  // matrix_x
+#include <anima/core/eigen_types.hpp>
 #include <anima/sadm/detail/regress_io.hpp>
 
 #include <Eigen/Core>

@@ -10,8 +10,8 @@
 
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
-#include <anima/symmetry/frame_distance.hpp>
-#include <anima/symmetry/frame_features.hpp>
+#include <anima/motion/frame_distance.hpp>
+#include <anima/motion/frame_features.hpp>
 
 #include <Eigen/Core>
 

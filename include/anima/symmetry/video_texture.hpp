@@ -8,7 +8,7 @@
 
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
-#include <anima/symmetry/frame_distance.hpp>
+#include <anima/motion/frame_distance.hpp>
 
 #include <Eigen/Core>
 

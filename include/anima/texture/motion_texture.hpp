@@ -32,7 +32,7 @@
 #include <anima/motion/dof_view.hpp>
 #include <anima/motion/figure.hpp>
 #include <anima/motion/resequence.hpp>
-#include <anima/poisson/motion_smoothing.hpp>
+#include <anima/texture/motion_smoothing.hpp>
 #include <anima/symmetry/symmetric_playback.hpp>
 #include <anima/symmetry/symmetry_scores.hpp>
 #include <anima/texture/texton.hpp>

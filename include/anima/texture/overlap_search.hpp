@@ -11,7 +11,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
-#include <anima/symmetry/frame_distance.hpp>
+#include <anima/motion/frame_distance.hpp>
 
 #include <Eigen/Core>
 

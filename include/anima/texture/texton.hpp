@@ -39,8 +39,8 @@
 #include <anima/rotation/exp_log.hpp>
 #include <anima/rotation/slerp.hpp>
 #include <anima/rotation/swing_twist.hpp>
-#include <anima/symmetry/frame_distance.hpp>
-#include <anima/symmetry/frame_features.hpp>
+#include <anima/motion/frame_distance.hpp>
+#include <anima/motion/frame_features.hpp>
 #include <anima/texture/overlap_search.hpp>
 #include <anima/texture/seam_blend.hpp>
 #include <anima/texture/seam_cost.hpp>

@@ -18,7 +18,7 @@
 #include <anima/motion/figure.hpp>
 #include <anima/motion/finite_difference.hpp>
 #include <anima/motion/forward_kinematics.hpp>
-#include <anima/transition/joint_roles.hpp>
+#include <anima/motion/joint_roles.hpp>
 
 #include <Eigen/Core>
 

@@ -9,7 +9,7 @@
 #include <anima/motion/finite_difference.hpp>
 #include <anima/motion/forward_kinematics.hpp>
 #include <anima/rotation/angular_velocity.hpp>
-#include <anima/transition/joint_roles.hpp>
+#include <anima/motion/joint_roles.hpp>
 #include <anima/transition/variable_timing_transition.hpp>
 
 #include <Eigen/Core>

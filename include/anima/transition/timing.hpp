@@ -18,7 +18,7 @@
 #include <anima/motion/clip.hpp>
 #include <anima/rotation/angular_velocity.hpp>
 #include <anima/rotation/quaternion.hpp>
-#include <anima/transition/joint_roles.hpp>
+#include <anima/motion/joint_roles.hpp>
 
 #include <Eigen/Geometry>
 

@@ -23,7 +23,7 @@
 #include <anima/rotation/slerp.hpp>
 #include <anima/rotation/squad.hpp>
 #include <anima/transition/classify.hpp>
-#include <anima/transition/joint_roles.hpp>
+#include <anima/motion/joint_roles.hpp>
 #include <anima/transition/placement.hpp>
 #include <anima/transition/timing.hpp>
 

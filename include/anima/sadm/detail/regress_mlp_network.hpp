@@ -7,7 +7,7 @@
 #pragma once
 
 #include <anima/core/random.hpp>
-#include <anima/optimize/result.hpp>
+#include <anima/core/eigen_types.hpp>
 
 #include <Eigen/Core>
 
