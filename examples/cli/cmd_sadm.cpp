@@ -42,9 +42,7 @@ using grey = anima::grey_image<double>;
 using landmarks_t = anima::landmark_set<double>;
 
 std::string lower_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
+    return anima::ascii_lower(std::filesystem::path(path).extension().string());
 }
 
 /// Grey levels 0-255 of a PGM/PPM (library) or JPEG/PNG (stb) file.

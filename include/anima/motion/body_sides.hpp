@@ -4,6 +4,7 @@
 // pose, as BVH files record neither.
 #pragma once
 
+#include <anima/core/text.hpp>
 #include <anima/motion/figure.hpp>
 #include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/skeleton.hpp>
@@ -36,8 +37,7 @@ inline const char* to_string(body_side s) {
 /// as l/r + bone as well when the rest is a known bone of that skeleton.
 /// Anything else is the centre.
 inline body_side side_of(std::string_view name) {
-    std::string lower(name);
-    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string lower = ascii_lower(name);
     if (lower.find("left") != std::string::npos) return body_side::left;
     if (lower.find("right") != std::string::npos) return body_side::right;
     if (name.size() < 2 || (lower[0] != 'l' && lower[0] != 'r')) return body_side::centre;

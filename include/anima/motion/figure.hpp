@@ -4,6 +4,7 @@
 // them takes the values as parameters so a user can override the guess.
 #pragma once
 
+#include <anima/core/text.hpp>
 #include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/skeleton.hpp>
 #include <anima/rotation/euler.hpp>
@@ -11,7 +12,6 @@
 #include <Eigen/Core>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -45,10 +45,6 @@ struct up_axis_guess {
 };
 
 namespace detail {
-inline std::string lowercase(std::string s) {
-    for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    return s;
-}
 template <class T>
 signed_axis dominant_axis(const Eigen::Matrix<T, 3, 1>& v) {
     Eigen::Index k;
@@ -67,7 +63,7 @@ up_axis_guess guess_up_axis(const skeleton<T>& sk) {
     const auto direction_to = [&](const char* const* words, std::size_t count) -> Eigen::Matrix<T, 3, 1> {
         Eigen::Matrix<T, 3, 1> sum = Eigen::Matrix<T, 3, 1>::Zero();
         for (std::size_t j = 1; j < sk.size(); ++j) {
-            const std::string name = detail::lowercase(sk[j].name);
+            const std::string name = ascii_lower(sk[j].name);
             for (std::size_t w = 0; w < count; ++w)
                 if (name.find(words[w]) != std::string::npos) {
                     sum += rest[j] - root;

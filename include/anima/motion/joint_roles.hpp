@@ -4,9 +4,9 @@
 // returned vector.
 #pragma once
 
+#include <anima/core/text.hpp>
 #include <anima/motion/skeleton.hpp>
 
-#include <cctype>
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -38,8 +38,7 @@ std::vector<joint_role> joint_roles(const skeleton<T>& sk) {
     };
     std::vector<joint_role> roles(sk.size(), joint_role::other);
     for (std::size_t j = 0; j < sk.size(); ++j) {
-        std::string n = sk[j].name;
-        for (char& c : n) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        const std::string n = ascii_lower(sk[j].name);
         if (sk[j].parent < 0) roles[j] = joint_role::root;
         else if (any(n, finger, 6)) roles[j] = joint_role::finger;
         else if (any(n, foot, 4)) roles[j] = joint_role::foot;

@@ -27,6 +27,7 @@
 
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/stopwatch.hpp>
 #include <anima/core/random.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/dof_view.hpp>
@@ -160,7 +161,7 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
                                const motion_texture_params<T>& params = {}) {
     using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
     if (frames == 0) throw invalid_argument("anima::patch_texton: the texture needs at least one frame (N = 0)");
-    detail::stopwatch clock;
+    stopwatch clock;
     motion_texture<T> out;
     out.texton = texton;
     out.timings = texton.timings;

@@ -32,6 +32,7 @@
 
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/stopwatch.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/dof_view.hpp>
 #include <anima/motion/figure.hpp>
@@ -50,7 +51,6 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <optional>
@@ -149,16 +149,6 @@ struct motion_texton {
 
 namespace detail {
 
-struct stopwatch {
-    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-    double lap() {
-        const auto now = std::chrono::steady_clock::now();
-        const double s = std::chrono::duration<double>(now - start).count();
-        start = now;
-        return s;
-    }
-};
-
 // The 2 pi-equivalent of rotation vector v (same rotation) closest to ref:
 // rotation vectors are unique only up to |v| = pi.
 template <class T>
@@ -203,17 +193,10 @@ std::vector<std::pair<std::size_t, std::size_t>> texton_neighbours(const skeleto
     return out;
 }
 
-}  // namespace detail
 
-/// Builds the texton of a clip. Throws anima::invalid_argument for a clip
-/// without joints, an overlap below 2 or above m, or m above half the
-/// clip's frames (M1 and M2 must not share frames; fit_texton_lengths
-/// shrinks m for short clips), or bad distance or cut parameters.
+/// Throws anima::invalid_argument unless the texton lengths fit the clip.
 template <class T>
-motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = {}) {
-    using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
-    using vec3 = Eigen::Matrix<T, 3, 1>;
-    using quat = Eigen::Quaternion<T>;
+void check_texton_params(const clip<T>& c, const texton_params<T>& params) {
     const std::string who = "anima::make_texton: ";
     const std::size_t F = c.frames(), m = params.m, n = params.overlap;
     if (c.joints() == 0) throw invalid_argument(who + "the clip has no joints");
@@ -230,29 +213,29 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
     if (params.blend.frames > n)
         throw invalid_argument(who + "a blend of " + std::to_string(params.blend.frames) +
                                " frames does not fit the overlap of " + std::to_string(n));
-    detail::stopwatch clock;
-    motion_texton<T> out;
-    out.m = m;
-    out.overlap = n;
-    const auto& sk = c.skeleton();
-    const signed_axis up = params.up ? *params.up : guess_up_axis(sk).up;
-    const int up_k = static_cast<int>(up.axis);
-    const T dt = c.frame_time();
+}
 
-    // Features: frame_features (ground position zeroed), ground velocity
-    // added; with heading alignment the root's rotation without its heading
-    // and the velocity in the heading's frame.
-    out.layout = make_dof_layout(c);
+/// The features the overlap search and the seam costs compare, frames x DOFs
+/// of `layout`: frame_features (ground position zeroed) with the root's
+/// ground velocity added; when `align`, the root's rotation without its
+/// heading and the velocity in the heading's frame.
+template <class T>
+Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> texton_features(const clip<T>& c, const dof_layout<T>& layout,
+                                                                 signed_axis up, bool align) {
+    using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    using quat = Eigen::Quaternion<T>;
+    const std::size_t F = c.frames();
+    const int up_k = static_cast<int>(up.axis);
     frame_feature_params fp;
     fp.up = up;
     matrix x = frame_features(c, fp);
-    const bool root_moves = sk.translation_slot(0) >= 0;
-    const bool align = params.align_heading && sk.has_rotation_channels(0);
+    const bool root_moves = c.skeleton().translation_slot(0) >= 0;
     const vec3 up_vec = axis_vector<T>(up);
     std::vector<quat> heading(align ? F : 0);
     for (std::size_t f = 0; f < heading.size(); ++f) heading[f] = swing_twist(c.rotation(f, 0), up_vec).second;
-    for (std::size_t col = 0; col < out.layout.size(); ++col) {
-        const dof& d = out.layout.dofs[col];
+    for (std::size_t col = 0; col < layout.size(); ++col) {
+        const dof& d = layout.dofs[col];
         if (d.joint != 0 || d.component != 0) continue;
         const auto cl = static_cast<Eigen::Index>(col);
         if (d.type == dof::kind::rotation && align)
@@ -262,7 +245,7 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
         if (d.type != dof::kind::translation || !root_moves) continue;
         matrix root(static_cast<Eigen::Index>(F), 3);
         for (std::size_t f = 0; f < F; ++f) root.row(static_cast<Eigen::Index>(f)) = c.root_position(f).transpose();
-        const matrix velocity = time_derivative(root, dt);
+        const matrix velocity = time_derivative(root, c.frame_time());
         for (std::size_t f = 0; f < F; ++f) {
             const auto fi = static_cast<Eigen::Index>(f);
             vec3 v = velocity.row(fi).transpose();
@@ -271,65 +254,52 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
                 if (k != up_k) x(fi, cl + k) = v[k];
         }
     }
-    for (std::size_t col = 0; col < out.layout.size(); col += 3) {
-        out.row_joint.push_back(out.layout.dofs[col].joint);
-        out.row_rotation.push_back(out.layout.dofs[col].type == dof::kind::rotation);
-    }
-    const auto distance = make_frame_distance(x, dt, params.distance);
-    const Eigen::Matrix<T, Eigen::Dynamic, 1> weights =
-        distance.metric == frame_metric::mahalanobis ? distance.precision
-                                                     : Eigen::Matrix<T, Eigen::Dynamic, 1>::Ones(x.cols());
-    const auto M = static_cast<Eigen::Index>(m), N = static_cast<Eigen::Index>(n);
-    const Eigen::Index m2_first = static_cast<Eigen::Index>(F) - M;
-    out.timings.features = clock.lap();
+    return x;
+}
 
-    // The (i, j) loop: where M2 and M1 overlap best.
-    const auto search = search_overlap(frame_pair_costs(x.middleRows(m2_first, M), x.topRows(M), distance), n);
-    out.offset_m2 = search.first_a;
-    out.offset_m1 = search.first_b;
-    out.search_cost = search.cost;
-    out.search_costs = search.costs;
-    const Eigen::Index a_first = m2_first + static_cast<Eigen::Index>(out.offset_m2);
-    const Eigen::Index b_first = static_cast<Eigen::Index>(out.offset_m1);
-    // M1's side turned to M2's heading: the circular mean of the heading
-    // differences over the overlap.
-    if (align) {
-        T sin_sum = T(0), cos_sum = T(0);
-        for (Eigen::Index t = 0; t < N; ++t) {
-            const T d = twist_angle(c.rotation(static_cast<std::size_t>(a_first + t), 0), up_vec) -
-                        twist_angle(c.rotation(static_cast<std::size_t>(b_first + t), 0), up_vec);
-            sin_sum += std::sin(d);
-            cos_sum += std::cos(d);
-        }
-        out.heading_turn = std::atan2(sin_sum, cos_sum);
+/// The turn about `up_vec` that takes M1's heading to M2's: the circular
+/// mean of the root's heading differences over the n overlap frames.
+template <class T>
+T overlap_heading_turn(const clip<T>& c, std::size_t a_first, std::size_t b_first, std::size_t n,
+                       const Eigen::Matrix<T, 3, 1>& up_vec) {
+    T sin_sum = T(0), cos_sum = T(0);
+    for (std::size_t t = 0; t < n; ++t) {
+        const T d = twist_angle(c.rotation(a_first + t, 0), up_vec) - twist_angle(c.rotation(b_first + t, 0), up_vec);
+        sin_sum += std::sin(d);
+        cos_sum += std::cos(d);
     }
-    std::optional<clip<T>> turned;
-    if (out.heading_turn != T(0)) {
-        turned = c;
-        const quat turn(Eigen::AngleAxis<T>(out.heading_turn, up_vec));
-        for (std::size_t f = 0; f < F; ++f) {
-            turned->set_rotation(f, 0, turn * c.rotation(f, 0));
-            if (root_moves) turned->set_root_position(f, turn * c.root_position(f));
-        }
+    return std::atan2(sin_sum, cos_sum);
+}
+
+/// The clip turned by `angle` about `up_vec` (root rotation and position).
+template <class T>
+clip<T> turned_about_up(const clip<T>& c, T angle, const Eigen::Matrix<T, 3, 1>& up_vec) {
+    clip<T> out = c;
+    const Eigen::Quaternion<T> turn(Eigen::AngleAxis<T>(angle, up_vec));
+    const bool root_moves = c.skeleton().translation_slot(0) >= 0;
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        out.set_rotation(f, 0, turn * c.rotation(f, 0));
+        if (root_moves) out.set_root_position(f, turn * c.root_position(f));
     }
-    const clip<T>& cb = turned ? *turned : c;
-    out.timings.search = clock.lap();
+    return out;
+}
 
-    // The per-row seams.
-    const seam_cost<T> cost(x.middleRows(a_first, N), x.middleRows(b_first, N), 3, weights, params.cut.cost);
-    out.cut = cut_seams(cost, detail::texton_neighbours(sk, out.row_joint, out.row_rotation), params.cut.neighbour_weight);
-    out.timings.cut = clock.lap();
-
-    // Assembly with the fades.
-    out.blend_frames = blend_frames(params.blend, n);
-    const matrix alpha = blend_weights<T>(out.cut.seam, n, out.blend_frames);
+/// Writes the texton's frames into out.motion: M2 up to the overlap, the
+/// faded overlap (alpha: rows x overlap frames, 1 = M2's side a, 0 = M1's
+/// side b of `cb`), then M1; the root's ground path is the sum of the steps.
+template <class T>
+void assemble_texton(motion_texton<T>& out, const clip<T>& c, const clip<T>& cb,
+                     const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>& alpha, std::size_t a_first,
+                     std::size_t b_first, int up_k) {
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    const auto& sk = c.skeleton();
+    const std::size_t F = c.frames(), m = out.m, n = out.overlap;
+    const bool root_moves = sk.translation_slot(0) >= 0;
     std::vector<long> rot_row(sk.size(), -1), tra_row(sk.size(), -1);
     for (std::size_t r = 0; r < out.rows(); ++r)
         (out.row_rotation[r] ? rot_row : tra_row)[out.row_joint[r]] = static_cast<long>(r);
-    const std::size_t middle = F - 2 * m;
-    out.overlap_start = middle + out.offset_m2;
     const std::size_t length = F - m + out.offset_m2 - out.offset_m1;
-    out.motion = clip<T>(sk, length, dt);
+    out.motion = clip<T>(sk, length, c.frame_time());
     // Source clip and frame of a texton frame outside the overlap.
     const auto source = [&](std::size_t k) -> std::pair<const clip<T>*, std::size_t> {
         if (k < out.overlap_start) return {&c, m + k};
@@ -357,7 +327,7 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
             if (root_moves) root_step = step(*from, f);
         } else {
             const std::size_t t = k - out.overlap_start;
-            const std::size_t fa = static_cast<std::size_t>(a_first) + t, fb = static_cast<std::size_t>(b_first) + t;
+            const std::size_t fa = a_first + t, fb = b_first + t;
             for (std::size_t j = 0; j < sk.size(); ++j) {
                 const auto& qa = c.rotation(fa, j);
                 const auto& qb = cb.rotation(fb, j);
@@ -377,17 +347,28 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
         p[up_k] = out.motion.root_position(k)[up_k];
         out.motion.set_root_position(k, p);
     }
+}
 
-    // The fade of velocities (see fade_correction), built in the DOF view.
+/// out.fade_correction (see there), built in the DOF view from the two
+/// sources of the overlap: `c` (side a) and `cb` (side b, c turned or c).
+template <class T>
+void fade_corrections(motion_texton<T>& out, const clip<T>& c, const clip<T>* turned,
+                      const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>& alpha, std::size_t a_first_frame,
+                      std::size_t b_first_frame, int up_k) {
+    using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    using quat = Eigen::Quaternion<T>;
+    const std::size_t n = out.overlap;
+    const auto a_first = static_cast<Eigen::Index>(a_first_frame), b_first = static_cast<Eigen::Index>(b_first_frame);
     const matrix raw_a = to_dof_matrix(c, out.layout);
-    const matrix raw_b = turned ? to_dof_matrix(cb, out.layout) : raw_a;
+    const matrix raw_b = turned ? to_dof_matrix(*turned, out.layout) : raw_a;
     matrix y = to_dof_matrix(out.motion, out.layout);
-    detail::unwrap_rotation_vectors(y, out.layout);
+    unwrap_rotation_vectors(y, out.layout);
     matrix z = y;
     out.fade_correction = matrix::Zero(y.rows(), y.cols());
     const auto step_of = [&](const matrix& raw, Eigen::Index f, Eigen::Index col, bool rotation) -> vec3 {
         const vec3 v0 = raw.row(f - 1).segment(col, 3).transpose(), v1 = raw.row(f).segment(col, 3).transpose();
-        return rotation ? vec3(detail::nearest_equivalent(v1, v0) - v0) : vec3(v1 - v0);
+        return rotation ? vec3(nearest_equivalent(v1, v0) - v0) : vec3(v1 - v0);
     };
     const std::size_t k_len = out.blend_frames;
     for (std::size_t r = 0; r < out.rows() && k_len > 0; ++r) {
@@ -427,6 +408,69 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
         if (d.joint == 0 && d.type == dof::kind::translation && d.component != up_k)
             out.fade_correction.col(static_cast<Eigen::Index>(col)).setZero();
     }
+}
+
+}  // namespace detail
+
+/// Builds the texton of a clip. Throws anima::invalid_argument for a clip
+/// without joints, an overlap below 2 or above m, or m above half the
+/// clip's frames (M1 and M2 must not share frames; fit_texton_lengths
+/// shrinks m for short clips), or bad distance or cut parameters.
+template <class T>
+motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = {}) {
+    using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    detail::check_texton_params(c, params);
+    const std::size_t F = c.frames(), m = params.m, n = params.overlap;
+    stopwatch clock;
+    motion_texton<T> out;
+    out.m = m;
+    out.overlap = n;
+    const auto& sk = c.skeleton();
+    const signed_axis up = params.up ? *params.up : guess_up_axis(sk).up;
+    const Eigen::Matrix<T, 3, 1> up_vec = axis_vector<T>(up);
+    const bool align = params.align_heading && sk.has_rotation_channels(0);
+
+    // Features, and the rows of the cut: one per 3-column block of the layout.
+    out.layout = make_dof_layout(c);
+    const matrix x = detail::texton_features(c, out.layout, up, align);
+    for (std::size_t col = 0; col < out.layout.size(); col += 3) {
+        out.row_joint.push_back(out.layout.dofs[col].joint);
+        out.row_rotation.push_back(out.layout.dofs[col].type == dof::kind::rotation);
+    }
+    const auto distance = make_frame_distance(x, c.frame_time(), params.distance);
+    const Eigen::Matrix<T, Eigen::Dynamic, 1> weights =
+        distance.metric == frame_metric::mahalanobis ? distance.precision
+                                                     : Eigen::Matrix<T, Eigen::Dynamic, 1>::Ones(x.cols());
+    const auto M = static_cast<Eigen::Index>(m), N = static_cast<Eigen::Index>(n);
+    const Eigen::Index m2_first = static_cast<Eigen::Index>(F) - M;
+    out.timings.features = clock.lap();
+
+    // The (i, j) loop: where M2 and M1 overlap best; M1's side turned to M2's heading.
+    const auto search = search_overlap(frame_pair_costs(x.middleRows(m2_first, M), x.topRows(M), distance), n);
+    out.offset_m2 = search.first_a;
+    out.offset_m1 = search.first_b;
+    out.search_cost = search.cost;
+    out.search_costs = search.costs;
+    const std::size_t a_first = static_cast<std::size_t>(m2_first) + out.offset_m2, b_first = out.offset_m1;
+    if (align) out.heading_turn = detail::overlap_heading_turn(c, a_first, b_first, n, up_vec);
+    std::optional<clip<T>> turned;
+    if (out.heading_turn != T(0)) turned = detail::turned_about_up(c, out.heading_turn, up_vec);
+    const clip<T>& cb = turned ? *turned : c;
+    out.timings.search = clock.lap();
+
+    // The per-row seams.
+    const seam_cost<T> cost(x.middleRows(static_cast<Eigen::Index>(a_first), N),
+                            x.middleRows(static_cast<Eigen::Index>(b_first), N), 3, weights, params.cut.cost);
+    out.cut = cut_seams(cost, detail::texton_neighbours(sk, out.row_joint, out.row_rotation), params.cut.neighbour_weight);
+    out.timings.cut = clock.lap();
+
+    // Assembly with the fades of values, then of velocities.
+    out.blend_frames = blend_frames(params.blend, n);
+    const matrix alpha = blend_weights<T>(out.cut.seam, n, out.blend_frames);
+    out.overlap_start = F - 2 * m + out.offset_m2;
+    const int up_k = static_cast<int>(up.axis);
+    detail::assemble_texton(out, c, cb, alpha, a_first, b_first, up_k);
+    detail::fade_corrections(out, c, turned ? &*turned : nullptr, alpha, a_first, b_first, up_k);
     out.timings.blend = clock.lap();
     out.timings.total = out.timings.features + out.timings.search + out.timings.cut + out.timings.blend;
     return out;
