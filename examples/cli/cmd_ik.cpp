@@ -141,26 +141,14 @@ std::vector<std::string> solver_names() {
     return names;
 }
 
-void run_ik(const ik_options& o) {
-    check_outputs({{"--output", &o.output}, {"--save-model", &o.model_out}});
-    const auto start = std::chrono::steady_clock::now();
-    clip_t c = load_clip(o.input);
-    const auto& sk = c.skeleton();
-    const double scale = body_scale(c);
-    solver_setup s{anima::kinematic_tree<double>(sk), {}, nullptr};
-    const bool learned = o.solver == "learned";
-    if (learned) s.tree.set_fixed(0);
-    else if (sk.translation_slot(0) >= 0) s.tree.set_root_translation(true);
-    s.params.tolerance = o.tolerance * scale;
-    s.params.max_iterations = o.iterations;
-    s.params.restarts = o.restarts;
-
+/// Per frame, the effectors and their targets (relative to the joint's
+/// recorded position in offset mode, world positions otherwise), from
+/// whichever of the three modes the options use.
+frame_targets collect_targets(const ik_options& o, const clip_t& c) {
     const bool offset_mode = !o.offset.empty();
     const bool file_mode = !o.targets_file.empty();
     if (offset_mode + file_mode + !o.effectors.empty() > 1)
         throw CLI::ValidationError("--offset/--targets/--effector", "use one of target, offset and file mode");
-    // Per frame, the effectors and their targets (relative to the joint's
-    // recorded position in offset mode, world positions otherwise).
     frame_targets per_frame;
     if (file_mode) {
         per_frame = read_targets(o.targets_file, c);
@@ -189,6 +177,95 @@ void run_ik(const ik_options& o) {
         for (std::size_t i = 0; i < o.effectors.size(); ++i)
             per_frame[o.frame].emplace_back(o.effectors[i], parse_vec3(o.targets[i], "--target"));
     }
+    return per_frame;
+}
+
+/// Trains the learned solver's model on the --train clips (and saves it
+/// with --save-model).
+void train_model(const ik_options& o, solver_setup& s, const wanted_list& wanted) {
+    const auto& sk = s.tree.skeleton();
+    if (o.train.empty()) throw CLI::ValidationError("--train", "the learned solver needs at least one --train clip");
+    std::vector<anima::ik_effector<double>> eff;
+    for (const auto& w : wanted) eff.push_back({w.first, vec3::Zero()});
+    anima::ik_matrix<double> poses(s.tree.dofs(), 0);
+    for (const auto& path : o.train) {
+        const clip_t t = load_clip(path);
+        if (t.skeleton() != sk) throw failure("--train '" + path + "' has another skeleton than '" + o.input + "'");
+        const auto p = anima::clip_poses(s.tree, t);
+        poses.conservativeResize(Eigen::NoChange, poses.cols() + p.cols());
+        poses.rightCols(p.cols()) = p;
+    }
+    std::cerr << "anima ik: training on " << poses.cols() << " poses\n";
+    s.model = std::make_unique<anima::learned_ik_model<double>>(
+        anima::learned_ik_model<double>::train(s.tree, eff, poses));
+    if (!o.model_out.empty()) {
+        std::ostringstream text;
+        s.model->save(text);
+        write_text_file(o.model_out, text.str());
+    }
+}
+
+/// The JSON entries of the effectors (a range reports its last frame), and
+/// a warning on stderr for each effector that missed its target anywhere.
+json effector_report(const anima::clip_ik_result<double>& solved, const std::vector<wanted_list>& goal_names,
+                     const std::vector<long>& clusters, double tolerance, bool smooth) {
+    const std::size_t last = solved.frames.back();
+    const bool learned = !clusters.empty();
+    json effectors = json::array();
+    // Per effector: the frames where it missed its target, and the worst miss.
+    struct miss {
+        std::size_t frames = 0, worst_frame = 0;
+        double worst = 0;
+    };
+    std::map<std::string, miss> missed;
+    for (std::size_t i = 0; i < solved.frames.size(); ++i) {
+        const std::size_t f = solved.frames[i];
+        const auto& r = solved.results[i];
+        for (std::size_t k = 0; k < goal_names[i].size(); ++k) {
+            const double error = r.errors[k].position;
+            if (error > tolerance) {
+                miss& m = missed[goal_names[i][k].first];
+                ++m.frames;
+                if (error > m.worst) m.worst = error, m.worst_frame = f;
+            }
+            if (smooth && f != last) continue;  // a range reports its last frame
+            json e = {{"name", goal_names[i][k].first},
+                      {"frame", f},
+                      {"error", error},
+                      {"reached", error <= tolerance},
+                      {"status", anima::to_string(r.status)}};
+            if (learned) e["cluster"] = clusters[i];
+            effectors.push_back(std::move(e));
+        }
+    }
+    for (const auto& [name, m] : missed) {
+        std::cerr << "anima: warning: effector '" << name << "' did not reach its target";
+        if (solved.frames.size() > 1) std::cerr << " in " << m.frames << " of " << solved.frames.size() << " frames";
+        std::cerr << ": it is " << format_number(m.worst, 3) << " units away";
+        if (solved.frames.size() > 1) std::cerr << " at frame " << m.worst_frame;
+        else std::cerr << " (frame " << m.worst_frame << ")";
+        std::cerr << ", the tolerance is " << format_number(tolerance, 3) << '\n';
+    }
+    return effectors;
+}
+
+void run_ik(const ik_options& o) {
+    check_outputs({{"--output", &o.output}, {"--save-model", &o.model_out}});
+    const auto start = std::chrono::steady_clock::now();
+    clip_t c = load_clip(o.input);
+    const auto& sk = c.skeleton();
+    const double scale = body_scale(c);
+    solver_setup s{anima::kinematic_tree<double>(sk), {}, nullptr};
+    const bool learned = o.solver == "learned";
+    if (learned) s.tree.set_fixed(0);
+    else if (sk.translation_slot(0) >= 0) s.tree.set_root_translation(true);
+    s.params.tolerance = o.tolerance * scale;
+    s.params.max_iterations = o.iterations;
+    s.params.restarts = o.restarts;
+
+    const bool offset_mode = !o.offset.empty();
+    const bool file_mode = !o.targets_file.empty();
+    const frame_targets per_frame = collect_targets(o, c);
     const bool smooth = offset_mode || file_mode;
     std::vector<std::pair<std::string, vec3>> wanted;  // every effector named, once
     for (const auto& entry : per_frame)
@@ -200,27 +277,7 @@ void run_ik(const ik_options& o) {
     for (const auto& w : wanted)
         if (!sk.find(w.first)) throw failure("no joint named '" + w.first + "' in '" + o.input + "'");
 
-    if (learned) {
-        if (o.train.empty()) throw CLI::ValidationError("--train", "the learned solver needs at least one --train clip");
-        std::vector<anima::ik_effector<double>> eff;
-        for (const auto& w : wanted) eff.push_back({w.first, vec3::Zero()});
-        anima::ik_matrix<double> poses(s.tree.dofs(), 0);
-        for (const auto& path : o.train) {
-            const clip_t t = load_clip(path);
-            if (t.skeleton() != sk) throw failure("--train '" + path + "' has another skeleton than '" + o.input + "'");
-            const auto p = anima::clip_poses(s.tree, t);
-            poses.conservativeResize(Eigen::NoChange, poses.cols() + p.cols());
-            poses.rightCols(p.cols()) = p;
-        }
-        std::cerr << "anima ik: training on " << poses.cols() << " poses\n";
-        s.model = std::make_unique<anima::learned_ik_model<double>>(
-            anima::learned_ik_model<double>::train(s.tree, eff, poses));
-        if (!o.model_out.empty()) {
-            std::ostringstream text;
-            s.model->save(text);
-            write_text_file(o.model_out, text.str());
-        }
-    }
+    if (learned) train_model(o, s, wanted);
 
     const std::size_t first = per_frame.begin()->first, last = per_frame.rbegin()->first;
     // The goals per frame (the learned model solves for all its effectors at
@@ -262,46 +319,12 @@ void run_ik(const ik_options& o) {
     const auto solved = anima::solve_clip_ik(s.tree, c, goals, solve, cp);
     c = solved.edited;
 
-    json effectors = json::array();
-    // Per effector: the frames where it missed its target, and the worst miss.
-    struct miss {
-        std::size_t frames = 0, worst_frame = 0;
-        double worst = 0;
-    };
-    std::map<std::string, miss> missed;
-    for (std::size_t i = 0; i < solved.frames.size(); ++i) {
-        const std::size_t f = solved.frames[i];
-        const auto& r = solved.results[i];
-        for (std::size_t k = 0; k < goal_names[i].size(); ++k) {
-            const double error = r.errors[k].position;
-            if (error > s.params.tolerance) {
-                miss& m = missed[goal_names[i][k].first];
-                ++m.frames;
-                if (error > m.worst) m.worst = error, m.worst_frame = f;
-            }
-            if (smooth && f != last) continue;  // a range reports its last frame
-            json e = {{"name", goal_names[i][k].first},
-                      {"frame", f},
-                      {"error", error},
-                      {"reached", error <= s.params.tolerance},
-                      {"status", anima::to_string(r.status)}};
-            if (learned) e["cluster"] = clusters[i];
-            effectors.push_back(std::move(e));
-        }
-    }
+    const json effectors = effector_report(solved, goal_names, clusters, s.params.tolerance, smooth);
     const int iterations = solved.iterations;
     const auto converged_frames = solved.converged_frames;
     const double worst = solved.largest_error;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(c));
-    for (const auto& [name, m] : missed) {
-        std::cerr << "anima: warning: effector '" << name << "' did not reach its target";
-        if (per_frame.size() > 1) std::cerr << " in " << m.frames << " of " << per_frame.size() << " frames";
-        std::cerr << ": it is " << format_number(m.worst, 3) << " units away";
-        if (per_frame.size() > 1) std::cerr << " at frame " << m.worst_frame;
-        else std::cerr << " (frame " << m.worst_frame << ")";
-        std::cerr << ", the tolerance is " << format_number(s.params.tolerance, 3) << '\n';
-    }
     json out = {{"input", o.input},
                 {"solver", o.solver},
                 {"frames", json::array({first, last})},
