@@ -135,6 +135,133 @@ void write_plot(const std::string& path, const clip_t& input, const anima::motio
     write_png(path, width, height, 3, px, "--plot");
 }
 
+/// The library's parameters from the options; the up axis is the given one
+/// or the guess from the skeleton.
+anima::motion_texture_params<double> texture_params(const texture_options& o, const clip_t& c) {
+    anima::motion_texture_params<double> p;
+    if (o.up_opt->count() > 0) p.texton.up = parse_signed_axis(o.up);
+    if (!p.texton.up) p.texton.up = anima::guess_up_axis(c.skeleton()).up;
+    const bool m_given = o.m_opt->count() > 0, overlap_given = o.overlap_opt->count() > 0;
+    p.texton.m = o.m;
+    p.texton.overlap = o.overlap;
+    // Defaults shrink to fit a short clip; given values are taken as they are.
+    if (!m_given) {
+        const std::size_t keep = p.texton.overlap;
+        p.texton = anima::fit_texton_lengths(p.texton, c.frames());
+        if (overlap_given) p.texton.overlap = keep;
+    } else if (!overlap_given) {
+        p.texton.overlap = std::clamp<std::size_t>(o.m / 2, 2, 50);
+    }
+    p.texton.blend.enabled = !o.hard_cut;
+    p.texton.blend.frames = o.blend;
+    p.texton.align_heading = !o.keep_heading;
+    p.texton.distance.metric = anima::parse_frame_metric(o.metric);
+    p.texton.cut.cost.capacity = anima::parse_seam_capacity(o.capacity);
+    p.texton.cut.neighbour_weight = o.neighbour_weight;
+    p.smoothing.enabled = o.smoothing != "none";
+    if (p.smoothing.enabled) p.smoothing.poisson.form = anima::parse_seam_smoothing_form(o.smoothing);
+    p.smoothing.poisson.solver = anima::parse_poisson_method(o.solver);
+    p.root = anima::parse_root_path(o.root);
+    p.mixing.symmetric = o.symmetric;
+    p.mixing.probability = o.mix_probability;
+    p.mixing.playback.seed = o.seed;
+
+    return p;
+}
+
+/// How smooth the seams are, against the input's own speeds, and whether
+/// every value is finite.
+struct seam_check {
+    std::vector<anima::seam_speed<double>> speeds;
+    double worst_joint = 0, worst_root = 0;
+    std::string worst_joint_name;
+    bool finite = true;
+};
+
+seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) {
+    seam_check out;
+    out.speeds = anima::seam_speeds(t.motion, t.overlap_spans, anima::clip_speed_limits(c));
+    for (const auto& s : out.speeds) {
+        if (s.joint_ratio > out.worst_joint) {
+            out.worst_joint = s.joint_ratio;
+            out.worst_joint_name = c.skeleton()[s.worst_joint].name;
+        }
+        out.worst_root = std::max(out.worst_root, s.root_ratio);
+    }
+    for (std::size_t f = 0; f < t.motion.frames() && out.finite; ++f)
+        for (std::size_t j = 0; j < t.motion.joints(); ++j)
+            out.finite = out.finite && t.motion.rotation(f, j).coeffs().allFinite() && t.motion.translation(f, j).allFinite();
+    return out;
+}
+
+struct stage_times {
+    double read = 0, write = 0, total = 0;
+};
+
+json texture_json(const texture_options& o, std::size_t first, const clip_t& c, const anima::motion_texton<double>& texton,
+                  const anima::motion_texture<double>& t, const seam_check& check, const stage_times& times) {
+    const double dt = c.frame_time();
+    json seams = json::array();
+    for (std::size_t col = 0; col < texton.layout.size(); ++col) {
+        const std::size_t r = col / 3;
+        seams.push_back({{"dof", texton.layout.name(c.skeleton(), col)},
+                         {"overlap_frame", texton.cut.seam[r]},
+                         {"texton_frame", texton.seam_frame(r)},
+                         {"cost", texton.cut.row_cost[r]}});
+    }
+    json spans = json::array();
+    for (std::size_t i = 0; i < check.speeds.size(); ++i)
+        spans.push_back({{"first", check.speeds[i].first},
+                         {"last", check.speeds[i].last},
+                         {"joint_speed_ratio", check.speeds[i].joint_ratio},
+                         {"worst_joint", c.skeleton()[check.speeds[i].worst_joint].name},
+                         {"root_speed_ratio", check.speeds[i].root_ratio}});
+    json out = {{"input", o.input},
+                {"first", first},
+                {"input_frames", c.frames()},
+                {"frames", t.motion.frames()},
+                {"seconds", static_cast<double>(t.motion.frames()) * dt},
+                {"frame_time", dt},
+                {"m", texton.m},
+                {"overlap", texton.overlap},
+                {"blend_frames", texton.blend_frames},
+                {"offsets", {{"m2", texton.offset_m2}, {"m1", texton.offset_m1}}},
+                {"texton", {{"frames", texton.motion.frames()},
+                            {"overlap_start", texton.overlap_start},
+                            {"heading_turn_degrees", anima::degrees(texton.heading_turn)}}},
+                {"search_cost", texton.search_cost},
+                {"cut_cost", texton.cut.cost},
+                {"neighbour_cost", texton.cut.neighbour_cost},
+                {"capacity", o.capacity},
+                {"metric", o.metric},
+                {"smoothing", o.smoothing},
+                {"seams", seams},
+                {"overlap_passes", spans},
+                {"seam_check", {{"joint_speed_ratio", check.worst_joint},
+                                {"worst_joint", check.worst_joint_name},
+                                {"root_speed_ratio", check.worst_root},
+                                {"finite", check.finite}}},
+                {"poisson", {{"solves", t.smoothing.solves},
+                             {"iterations", t.smoothing.iterations},
+                             {"relative_residual", t.smoothing.relative_residual},
+                             {"converged", t.smoothing.converged}}},
+                {"stage_seconds", {{"read", times.read},
+                                   {"features", t.timings.features},
+                                   {"search", t.timings.search},
+                                   {"cut", t.timings.cut},
+                                   {"blend", t.timings.blend},
+                                   {"patch", t.timings.patch},
+                                   {"smoothing", t.timings.smoothing},
+                                   {"write", times.write},
+                                   {"total", times.total}}}};
+    if (o.symmetric)
+        out["symmetric"] = {{"seed", o.seed}, {"probability", o.mix_probability}, {"passages", t.passages}, {"turns", t.turns}};
+    if (!o.output.empty()) out["output"] = o.output;
+    if (!o.texton_output.empty()) out["texton_output"] = o.texton_output;
+    if (!o.plot.empty()) out["plot"] = o.plot;
+    return out;
+}
+
 void run_texture(const texture_options& o) {
     check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}});
     if (!o.plot.empty()) require_png("--plot");
@@ -163,34 +290,8 @@ void run_texture(const texture_options& o) {
                          "--frames");
     const double read_seconds = seconds_since(start);
 
-    anima::motion_texture_params<double> p;
-    if (o.up_opt->count() > 0) p.texton.up = parse_signed_axis(o.up);
-    const anima::signed_axis up = p.texton.up ? *p.texton.up : anima::guess_up_axis(c.skeleton()).up;
-    p.texton.up = up;
-    const bool m_given = o.m_opt->count() > 0, overlap_given = o.overlap_opt->count() > 0;
-    p.texton.m = o.m;
-    p.texton.overlap = o.overlap;
-    // Defaults shrink to fit a short clip; given values are taken as they are.
-    if (!m_given) {
-        const std::size_t keep = p.texton.overlap;
-        p.texton = anima::fit_texton_lengths(p.texton, c.frames());
-        if (overlap_given) p.texton.overlap = keep;
-    } else if (!overlap_given) {
-        p.texton.overlap = std::clamp<std::size_t>(o.m / 2, 2, 50);
-    }
-    p.texton.blend.enabled = !o.hard_cut;
-    p.texton.blend.frames = o.blend;
-    p.texton.align_heading = !o.keep_heading;
-    p.texton.distance.metric = anima::parse_frame_metric(o.metric);
-    p.texton.cut.cost.capacity = anima::parse_seam_capacity(o.capacity);
-    p.texton.cut.neighbour_weight = o.neighbour_weight;
-    p.smoothing.enabled = o.smoothing != "none";
-    if (p.smoothing.enabled) p.smoothing.poisson.form = anima::parse_seam_smoothing_form(o.smoothing);
-    p.smoothing.poisson.solver = anima::parse_poisson_method(o.solver);
-    p.root = anima::parse_root_path(o.root);
-    p.mixing.symmetric = o.symmetric;
-    p.mixing.probability = o.mix_probability;
-    p.mixing.playback.seed = o.seed;
+    const anima::motion_texture_params<double> p = texture_params(o, c);
+    const anima::signed_axis up = *p.texton.up;
 
     const auto stage = [&](const char* what, double seconds) {
         if (o.progress || seconds > 1.0) std::cerr << "anima: " << what << ": " << format_number(seconds, 3) << " s\n";
@@ -208,87 +309,14 @@ void run_texture(const texture_options& o) {
     if (!o.plot.empty()) write_plot(o.plot, c, t, up);
     const double write_seconds = seconds_since(write_start);
 
-    // How smooth the seams are, against the input's own speeds.
-    const auto limits = anima::clip_speed_limits(c);
-    const auto speeds = anima::seam_speeds(t.motion, t.overlap_spans, limits);
-    double worst_joint = 0, worst_root = 0;
-    std::string worst_joint_name;
-    for (const auto& s : speeds) {
-        if (s.joint_ratio > worst_joint) {
-            worst_joint = s.joint_ratio;
-            worst_joint_name = c.skeleton()[s.worst_joint].name;
-        }
-        worst_root = std::max(worst_root, s.root_ratio);
-    }
-    bool finite = true;
-    for (std::size_t f = 0; f < t.motion.frames() && finite; ++f)
-        for (std::size_t j = 0; j < t.motion.joints(); ++j)
-            finite = finite && t.motion.rotation(f, j).coeffs().allFinite() && t.motion.translation(f, j).allFinite();
+    const seam_check check = check_seams(c, t);
     if (!t.smoothing.converged)
         std::cerr << "anima: warning: a Poisson solve stopped at relative residual "
                   << format_number(t.smoothing.relative_residual, 3) << " above its tolerance\n";
 
     const double dt = c.frame_time();
     if (o.json) {
-        json seams = json::array();
-        for (std::size_t col = 0; col < texton.layout.size(); ++col) {
-            const std::size_t r = col / 3;
-            seams.push_back({{"dof", texton.layout.name(c.skeleton(), col)},
-                             {"overlap_frame", texton.cut.seam[r]},
-                             {"texton_frame", texton.seam_frame(r)},
-                             {"cost", texton.cut.row_cost[r]}});
-        }
-        json spans = json::array();
-        for (std::size_t i = 0; i < speeds.size(); ++i)
-            spans.push_back({{"first", speeds[i].first},
-                             {"last", speeds[i].last},
-                             {"joint_speed_ratio", speeds[i].joint_ratio},
-                             {"worst_joint", c.skeleton()[speeds[i].worst_joint].name},
-                             {"root_speed_ratio", speeds[i].root_ratio}});
-        json out = {{"input", o.input},
-                    {"first", first},
-                    {"input_frames", c.frames()},
-                    {"frames", t.motion.frames()},
-                    {"seconds", static_cast<double>(t.motion.frames()) * dt},
-                    {"frame_time", dt},
-                    {"m", texton.m},
-                    {"overlap", texton.overlap},
-                    {"blend_frames", texton.blend_frames},
-                    {"offsets", {{"m2", texton.offset_m2}, {"m1", texton.offset_m1}}},
-                    {"texton", {{"frames", texton.motion.frames()},
-                                {"overlap_start", texton.overlap_start},
-                                {"heading_turn_degrees", anima::degrees(texton.heading_turn)}}},
-                    {"search_cost", texton.search_cost},
-                    {"cut_cost", texton.cut.cost},
-                    {"neighbour_cost", texton.cut.neighbour_cost},
-                    {"capacity", o.capacity},
-                    {"metric", o.metric},
-                    {"smoothing", o.smoothing},
-                    {"seams", seams},
-                    {"overlap_passes", spans},
-                    {"seam_check", {{"joint_speed_ratio", worst_joint},
-                                    {"worst_joint", worst_joint_name},
-                                    {"root_speed_ratio", worst_root},
-                                    {"finite", finite}}},
-                    {"poisson", {{"solves", t.smoothing.solves},
-                                 {"iterations", t.smoothing.iterations},
-                                 {"relative_residual", t.smoothing.relative_residual},
-                                 {"converged", t.smoothing.converged}}},
-                    {"stage_seconds", {{"read", read_seconds},
-                                       {"features", t.timings.features},
-                                       {"search", t.timings.search},
-                                       {"cut", t.timings.cut},
-                                       {"blend", t.timings.blend},
-                                       {"patch", t.timings.patch},
-                                       {"smoothing", t.timings.smoothing},
-                                       {"write", write_seconds},
-                                       {"total", seconds_since(start)}}}};
-        if (o.symmetric)
-            out["symmetric"] = {{"seed", o.seed}, {"probability", o.mix_probability}, {"passages", t.passages}, {"turns", t.turns}};
-        if (!o.output.empty()) out["output"] = o.output;
-        if (!o.texton_output.empty()) out["texton_output"] = o.texton_output;
-        if (!o.plot.empty()) out["plot"] = o.plot;
-        print_json(out);
+        print_json(texture_json(o, first, c, texton, t, check, {read_seconds, write_seconds, seconds_since(start)}));
         return;
     }
     std::cout << "texture of " << file_name(o.input) << " frames " << first << ".." << whole.frames() - 1 << " ("
@@ -306,10 +334,10 @@ void run_texture(const texture_options& o) {
     std::cout << "seams: " << texton.rows() << " rows switch at overlap frames " << lo << ".." << hi << ", cut cost "
               << format_number(texton.cut.cost, 4) << " (" << format_number(texton.cut.neighbour_cost, 4)
               << " between neighbouring joints)\n";
-    std::cout << "seam check over " << speeds.size() << " pass" << (speeds.size() == 1 ? "" : "es")
-              << " through the overlap: joint speed <= " << format_fixed(worst_joint, 3) << " x the input's fastest"
-              << (worst_joint_name.empty() ? "" : " (" + worst_joint_name + ")") << ", root speed <= "
-              << format_fixed(worst_root, 3) << " x" << (finite ? "" : "; NON-FINITE VALUES") << "\n";
+    std::cout << "seam check over " << check.speeds.size() << " pass" << (check.speeds.size() == 1 ? "" : "es")
+              << " through the overlap: joint speed <= " << format_fixed(check.worst_joint, 3) << " x the input's fastest"
+              << (check.worst_joint_name.empty() ? "" : " (" + check.worst_joint_name + ")") << ", root speed <= "
+              << format_fixed(check.worst_root, 3) << " x" << (check.finite ? "" : "; NON-FINITE VALUES") << "\n";
     if (o.symmetric) std::cout << t.passages << " symmetric passages, " << t.turns.size() << " turns\n";
     std::cout << "stages (s): search " << format_number(t.timings.search, 3) << ", cut " << format_number(t.timings.cut, 3)
               << ", fades " << format_number(t.timings.blend, 3) << ", patch " << format_number(t.timings.patch, 3)
