@@ -109,26 +109,16 @@ const char* colour(anima::body_side s) {
     return s == anima::body_side::left ? colour_left : s == anima::body_side::right ? colour_right : colour_centre;
 }
 
-void run_render(const render_options& o) {
-    check_outputs({{"OUT", &o.output}});
-    const clip_t clip = load_clip(o.input);
-    if (clip.empty()) throw failure("'" + o.input + "' has no frames to render");
+/// The chosen frames' bones in view coordinates, each frame relative to its
+/// root's horizontal position so that the figures stay centred in their
+/// panels, far bones first; and the box they span.
+struct projection {
+    std::vector<panel> panels;
+    double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
+};
+
+projection project_frames(const clip_t& clip, const std::vector<std::size_t>& frames, const view_basis& basis) {
     const skeleton_t& sk = clip.skeleton();
-    const std::vector<std::size_t> frames = choose_frames(o, clip.frames());
-
-    anima::signed_axis up = parse_signed_axis(o.up.empty() ? "+Y" : o.up);
-    if (o.up_opt->count() == 0) {
-        const anima::up_axis_guess guess = anima::guess_up_axis(sk);
-        up = guess.up;
-        if (!guess.confident)
-            std::cerr << "anima: warning: cannot tell the up axis of '" << o.input
-                      << "' (no head, neck or foot joint); assuming " << anima::to_string(up)
-                      << ", use --up to say otherwise\n";
-    }
-    const view_basis basis = make_view(o.view, up, anima::left_axis(sk, up));
-
-    // Project every chosen frame, each relative to its root's horizontal
-    // position so that the figures stay centred in their panels.
     std::vector<panel> panels;
     anima::global_pose<double> pose;
     double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
@@ -167,6 +157,32 @@ void run_render(const render_options& o) {
         xmin = ymin = -1;
         xmax = ymax = 1;
     }
+
+    return {std::move(panels), xmin, xmax, ymin, ymax};
+}
+
+void run_render(const render_options& o) {
+    check_outputs({{"OUT", &o.output}});
+    const clip_t clip = load_clip(o.input);
+    if (clip.empty()) throw failure("'" + o.input + "' has no frames to render");
+    const skeleton_t& sk = clip.skeleton();
+    const std::vector<std::size_t> frames = choose_frames(o, clip.frames());
+
+    anima::signed_axis up = parse_signed_axis(o.up.empty() ? "+Y" : o.up);
+    if (o.up_opt->count() == 0) {
+        const anima::up_axis_guess guess = anima::guess_up_axis(sk);
+        up = guess.up;
+        if (!guess.confident)
+            std::cerr << "anima: warning: cannot tell the up axis of '" << o.input
+                      << "' (no head, neck or foot joint); assuming " << anima::to_string(up)
+                      << ", use --up to say otherwise\n";
+    }
+    const view_basis basis = make_view(o.view, up, anima::left_axis(sk, up));
+
+    projection projected = project_frames(clip, frames, basis);
+    const std::vector<panel>& panels = projected.panels;
+    double xmin = projected.xmin, xmax = projected.xmax, ymin = projected.ymin, ymax = projected.ymax;
+    anima::global_pose<double> pose;
 
     // The ground: the lowest point the figure reaches anywhere in the clip.
     double ground = ymin;
