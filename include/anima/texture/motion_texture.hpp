@@ -153,26 +153,13 @@ std::vector<std::size_t> texture_stream(const motion_texton<T>& texton, std::siz
     return out;
 }
 
-/// Patches a texton into a texture of `frames` frames (Eq 10): the stream,
-/// resequencing with the root policy, and the Poisson stage. Throws
-/// anima::invalid_argument for frames = 0 or bad parameters.
-template <class T>
-motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frames,
-                               const motion_texture_params<T>& params = {}) {
-    using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
-    if (frames == 0) throw invalid_argument("anima::patch_texton: the texture needs at least one frame (N = 0)");
-    stopwatch clock;
-    motion_texture<T> out;
-    out.texton = texton;
-    out.timings = texton.timings;
-    const std::size_t rows = texton.rows();
-    out.stream = texture_stream(texton, frames, params, &out.turns, &out.passages);
-    resequence_params rp;
-    rp.root = params.root;
-    rp.up = params.texton.up ? *params.texton.up : guess_up_axis(texton.motion.skeleton()).up;
-    out.motion = resequence(texton.motion, out.stream, rp);
+namespace detail {
 
-    // Where the stream crosses each row's seam, and the overlap passes.
+/// Where the stream crosses each row's seam (out.row_seams) and the runs of
+/// texture frames inside the texton's overlap (out.overlap_spans).
+template <class T>
+void locate_texture_seams(motion_texture<T>& out, const motion_texton<T>& texton, std::size_t frames) {
+    const std::size_t rows = texton.rows();
     out.row_seams.resize(rows);
     for (std::size_t k = 1; k < frames; ++k) {
         const std::size_t p = out.stream[k - 1], q = out.stream[k];
@@ -190,8 +177,13 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
             out.overlap_spans.emplace_back(k, k);
     }
 
-    // Each pass of the loop turned by the texton's heading turn: the root's
-    // orientation, and its ground steps where the path is made of steps.
+}
+
+/// Turns each pass of the loop by the texton's heading turn: the root's
+/// orientation, and its ground steps where the path is made of steps.
+template <class T>
+void turn_texture_passes(motion_texture<T>& out, const motion_texton<T>& texton, std::size_t frames,
+                         const motion_texture_params<T>& params, const resequence_params& rp) {
     const auto& sk = texton.motion.skeleton();
     if (texton.heading_turn != T(0) && sk.has_rotation_channels(0)) {
         using vec3 = Eigen::Matrix<T, 3, 1>;
@@ -221,93 +213,130 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
             out.motion.set_root_position(k, p);
         }
     }
+}
+
+/// Adds the texton's fade corrections to every texture frame: the fades of
+/// values become fades of velocities, each with one jump at its middle.
+template <class T>
+void apply_fade_corrections(motion_texture<T>& out, const motion_texton<T>& texton, std::size_t frames) {
+    const auto& layout = texton.layout;
+    const auto& fix = texton.fade_correction;
+    for (std::size_t k = 0; k < frames; ++k) {
+        const auto f = static_cast<Eigen::Index>(out.stream[k]);
+        for (std::size_t col = 0; col < layout.size(); col += 3) {
+            const Eigen::Matrix<T, 3, 1> v = fix.row(f).segment(static_cast<Eigen::Index>(col), 3).transpose();
+            if (v.isZero(T(0))) continue;
+            const dof& d = layout.dofs[col];
+            if (d.type == dof::kind::rotation)
+                out.motion.set_rotation(k, d.joint, out.motion.rotation(k, d.joint) *
+                                                        from_rotation_vector<Eigen::Quaternion<T>>(v));
+            else
+                out.motion.set_translation(k, d.joint, out.motion.translation(k, d.joint) + v);
+        }
+    }
+}
+
+/// Poisson smoothing of the texture's seams (Eq 14) in the DOF view: every
+/// rotation DOF and the root's height; the ground path stays the
+/// resequenced one.
+template <class T>
+void smooth_texture_seams(motion_texture<T>& out, const motion_texton<T>& texton, std::size_t frames,
+                          const motion_texture_params<T>& params, int up_k) {
+    using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const std::size_t rows = texton.rows();
+    const auto& layout = texton.layout;
+    matrix y = to_dof_matrix(out.motion, layout);
+    detail::unwrap_rotation_vectors(y, layout);
+    // Columns smoothed per row: all three of a rotation, the height of
+    // the root's translation (its ground path is a sum of steps).
+    const auto columns = [&](std::size_t r) {
+        std::vector<Eigen::Index> cols;
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t c = 3 * r + static_cast<std::size_t>(k);
+            const dof& d = layout.dofs[c];
+            if (d.type == dof::kind::rotation || d.joint != 0 || d.component == up_k)
+                cols.push_back(static_cast<Eigen::Index>(c));
+        }
+        return cols;
+    };
+    const auto record = [&](const seam_smoothing_stats<T>& s) {
+        out.smoothing.solves += s.solves;
+        out.smoothing.iterations = std::max(out.smoothing.iterations, s.iterations);
+        out.smoothing.relative_residual = std::max(out.smoothing.relative_residual, s.relative_residual);
+        out.smoothing.converged = out.smoothing.converged && s.converged;
+    };
+    const auto smooth = [&](const std::vector<Eigen::Index>& cols, const std::vector<std::size_t>& seams) {
+        matrix part(y.rows(), static_cast<Eigen::Index>(cols.size()));
+        for (std::size_t i = 0; i < cols.size(); ++i) part.col(static_cast<Eigen::Index>(i)) = y.col(cols[i]);
+        const auto s = smooth_seams(part, seams, params.smoothing.poisson);
+        for (std::size_t i = 0; i < cols.size(); ++i) y.col(cols[i]) = s.motion.col(static_cast<Eigen::Index>(i));
+        record(s.stats);
+    };
+    if (params.smoothing.poisson.form == seam_smoothing_form::temporal) {
+        // Rows with the same seams share one call (and one multigrid
+        // hierarchy); the columns stay independent problems.
+        std::vector<bool> done(rows, false);
+        for (std::size_t r = 0; r < rows; ++r) {
+            if (done[r] || out.row_seams[r].empty()) continue;
+            std::vector<Eigen::Index> cols;
+            for (std::size_t q = r; q < rows; ++q)
+                if (!done[q] && out.row_seams[q] == out.row_seams[r]) {
+                    const auto c = columns(q);
+                    cols.insert(cols.end(), c.begin(), c.end());
+                    done[q] = true;
+                }
+            smooth(cols, out.row_seams[r]);
+        }
+    } else {
+        std::vector<Eigen::Index> cols;
+        std::vector<std::size_t> seams;
+        for (std::size_t r = 0; r < rows; ++r) {
+            const auto c = columns(r);
+            cols.insert(cols.end(), c.begin(), c.end());
+            seams.insert(seams.end(), out.row_seams[r].begin(), out.row_seams[r].end());
+        }
+        smooth(cols, seams);
+    }
+    // The ground path stays the resequenced one.
+    for (std::size_t c = 0; c < layout.size(); ++c) {
+        const dof& d = layout.dofs[c];
+        if (d.type == dof::kind::translation && d.joint == 0 && d.component != up_k)
+            for (std::size_t k = 0; k < frames; ++k)
+                y(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(c)) = out.motion.root_position(k)[d.component];
+    }
+    from_dof_matrix(y, layout, out.motion);
+}
+
+}  // namespace detail
+
+/// Patches a texton into a texture of `frames` frames (Eq 10): the stream,
+/// resequencing with the root policy, and the Poisson stage. Throws
+/// anima::invalid_argument for frames = 0 or bad parameters.
+template <class T>
+motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frames,
+                               const motion_texture_params<T>& params = {}) {
+    if (frames == 0) throw invalid_argument("anima::patch_texton: the texture needs at least one frame (N = 0)");
+    stopwatch clock;
+    motion_texture<T> out;
+    out.texton = texton;
+    out.timings = texton.timings;
+    out.stream = texture_stream(texton, frames, params, &out.turns, &out.passages);
+    resequence_params rp;
+    rp.root = params.root;
+    rp.up = params.texton.up ? *params.texton.up : guess_up_axis(texton.motion.skeleton()).up;
+    out.motion = resequence(texton.motion, out.stream, rp);
+
+    detail::locate_texture_seams(out, texton, frames);
+    detail::turn_texture_passes(out, texton, frames, params, rp);
     out.timings.patch = clock.lap();
 
     // Poisson smoothing (Eq 14). The fades become fades of velocities, each
     // with one jump at its middle (texton.fade_correction); smooth_seams
     // removes the jumps and spreads what they held over the whole texture.
     const bool any_seam = std::any_of(out.row_seams.begin(), out.row_seams.end(), [](const auto& s) { return !s.empty(); });
-    if (params.smoothing.enabled && frames >= 3) {
-        const auto& layout = texton.layout;
-        const auto& fix = texton.fade_correction;
-        for (std::size_t k = 0; k < frames; ++k) {
-            const auto f = static_cast<Eigen::Index>(out.stream[k]);
-            for (std::size_t col = 0; col < layout.size(); col += 3) {
-                const Eigen::Matrix<T, 3, 1> v = fix.row(f).segment(static_cast<Eigen::Index>(col), 3).transpose();
-                if (v.isZero(T(0))) continue;
-                const dof& d = layout.dofs[col];
-                if (d.type == dof::kind::rotation)
-                    out.motion.set_rotation(k, d.joint, out.motion.rotation(k, d.joint) *
-                                                            from_rotation_vector<Eigen::Quaternion<T>>(v));
-                else
-                    out.motion.set_translation(k, d.joint, out.motion.translation(k, d.joint) + v);
-            }
-        }
-    }
-    if (params.smoothing.enabled && frames >= 3 && any_seam) {
-        const auto& layout = texton.layout;
-        matrix y = to_dof_matrix(out.motion, layout);
-        detail::unwrap_rotation_vectors(y, layout);
-        const int up_k = static_cast<int>(rp.up->axis);
-        // Columns smoothed per row: all three of a rotation, the height of
-        // the root's translation (its ground path is a sum of steps).
-        const auto columns = [&](std::size_t r) {
-            std::vector<Eigen::Index> cols;
-            for (int k = 0; k < 3; ++k) {
-                const std::size_t c = 3 * r + static_cast<std::size_t>(k);
-                const dof& d = layout.dofs[c];
-                if (d.type == dof::kind::rotation || d.joint != 0 || d.component == up_k)
-                    cols.push_back(static_cast<Eigen::Index>(c));
-            }
-            return cols;
-        };
-        const auto record = [&](const seam_smoothing_stats<T>& s) {
-            out.smoothing.solves += s.solves;
-            out.smoothing.iterations = std::max(out.smoothing.iterations, s.iterations);
-            out.smoothing.relative_residual = std::max(out.smoothing.relative_residual, s.relative_residual);
-            out.smoothing.converged = out.smoothing.converged && s.converged;
-        };
-        const auto smooth = [&](const std::vector<Eigen::Index>& cols, const std::vector<std::size_t>& seams) {
-            matrix part(y.rows(), static_cast<Eigen::Index>(cols.size()));
-            for (std::size_t i = 0; i < cols.size(); ++i) part.col(static_cast<Eigen::Index>(i)) = y.col(cols[i]);
-            const auto s = smooth_seams(part, seams, params.smoothing.poisson);
-            for (std::size_t i = 0; i < cols.size(); ++i) y.col(cols[i]) = s.motion.col(static_cast<Eigen::Index>(i));
-            record(s.stats);
-        };
-        if (params.smoothing.poisson.form == seam_smoothing_form::temporal) {
-            // Rows with the same seams share one call (and one multigrid
-            // hierarchy); the columns stay independent problems.
-            std::vector<bool> done(rows, false);
-            for (std::size_t r = 0; r < rows; ++r) {
-                if (done[r] || out.row_seams[r].empty()) continue;
-                std::vector<Eigen::Index> cols;
-                for (std::size_t q = r; q < rows; ++q)
-                    if (!done[q] && out.row_seams[q] == out.row_seams[r]) {
-                        const auto c = columns(q);
-                        cols.insert(cols.end(), c.begin(), c.end());
-                        done[q] = true;
-                    }
-                smooth(cols, out.row_seams[r]);
-            }
-        } else {
-            std::vector<Eigen::Index> cols;
-            std::vector<std::size_t> seams;
-            for (std::size_t r = 0; r < rows; ++r) {
-                const auto c = columns(r);
-                cols.insert(cols.end(), c.begin(), c.end());
-                seams.insert(seams.end(), out.row_seams[r].begin(), out.row_seams[r].end());
-            }
-            smooth(cols, seams);
-        }
-        // The ground path stays the resequenced one.
-        for (std::size_t c = 0; c < layout.size(); ++c) {
-            const dof& d = layout.dofs[c];
-            if (d.type == dof::kind::translation && d.joint == 0 && d.component != up_k)
-                for (std::size_t k = 0; k < frames; ++k)
-                    y(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(c)) = out.motion.root_position(k)[d.component];
-        }
-        from_dof_matrix(y, layout, out.motion);
-    }
+    if (params.smoothing.enabled && frames >= 3) detail::apply_fade_corrections(out, texton, frames);
+    if (params.smoothing.enabled && frames >= 3 && any_seam)
+        detail::smooth_texture_seams(out, texton, frames, params, static_cast<int>(rp.up->axis));
 
     out.timings.smoothing = clock.lap();
     out.timings.total = texton.timings.total + out.timings.patch + out.timings.smoothing;
