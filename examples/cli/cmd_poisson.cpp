@@ -166,34 +166,15 @@ void run_poisson(const poisson_options& o) {
         r = fast.solve(problem);
         solve = since(t);
     } else {
-        // Eigen's conjugate gradient on the assembled system, as a reference.
-        const auto sys = anima::assemble_poisson_system(problem);
-        Eigen::VectorXd x;
-        Eigen::Index iterations = 0;
-        const auto run = [&](auto& cg) {
-            cg.setTolerance(o.tolerance);
-            cg.compute(sys.A);
-            setup = since(start);
-            const auto t = std::chrono::steady_clock::now();
-            x = cg.solve(sys.b);
-            solve = since(t);
-            iterations = cg.iterations();
-        };
-        if (o.solver == "cg-ic") {
-            Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
-                                     Eigen::IncompleteCholesky<double>>
-                cg;
-            run(cg);
-        } else {
-            Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
-            run(cg);
-        }
-        r.u = anima::expand_solution(problem, sys, x);
-        if (problem.grid.singular()) r.u.array() -= r.u.mean();
-        r.iterations = static_cast<int>(iterations);
-        r.removed_mean = sys.removed_mean;
-        r.relative_residual = anima::relative_residual(problem, r.u);
-        r.converged = r.relative_residual <= o.tolerance;
+        // Conjugate gradients on the assembled system, as a reference.
+        anima::cg_poisson<double>::params prm;
+        prm.tolerance = o.tolerance;
+        if (o.solver == "cg-ic") prm.preconditioner = anima::cg_preconditioner::incomplete_cholesky;
+        const anima::cg_poisson<double> cg(problem, prm);
+        setup = since(start);
+        const auto t = std::chrono::steady_clock::now();
+        r = cg.solve();
+        solve = since(t);
     }
     const double seconds = setup + solve;
     out["seconds"] = seconds;

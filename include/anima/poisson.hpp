@@ -4,6 +4,7 @@
 // its FFT, and the seam smoothing of stitched motion (Eq 14).
 #pragma once
 
+#include <anima/poisson/cg_poisson.hpp>
 #include <anima/poisson/dst_poisson.hpp>
 #include <anima/poisson/fft.hpp>
 #include <anima/poisson/gradient_field.hpp>

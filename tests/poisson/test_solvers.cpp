@@ -5,6 +5,7 @@
 #include "poisson_test_util.hpp"
 
 #include <anima/core/error.hpp>
+#include <anima/poisson/cg_poisson.hpp>
 #include <anima/poisson/dst_poisson.hpp>
 #include <anima/poisson/gradient_field.hpp>
 #include <anima/poisson/grid.hpp>
@@ -102,6 +103,71 @@ TEST_CASE("multigrid and DST agree with sparse Cholesky on any size and boundary
                     CHECK(std::abs(fast.u.mean()) < 1e-10);
                 }
             }
+}
+
+TEST_CASE("conjugate gradients, plain and with incomplete Cholesky, agree with sparse Cholesky") {
+    using cg = anima::cg_poisson<double>;
+    struct shape {
+        Eigen::Index rows, cols;
+    };
+    const boundary kinds[] = {boundary::dirichlet, boundary::neumann};
+    for (const shape s : {shape{1, 1}, shape{3, 1}, shape{17, 9}, shape{40, 23}, shape{64, 64}})
+        for (boundary tb : kinds)
+            for (boundary lr : kinds) {
+                CAPTURE(s.rows);
+                CAPTURE(s.cols);
+                const grid g = make(s.rows, s.cols, tb, lr);
+                const auto p = random_problem(g, static_cast<unsigned>(s.rows * 17 + s.cols));
+                const matd ref = reference_solution(p);
+                int iterations[2] = {0, 0};
+                for (const auto pre : {anima::cg_preconditioner::diagonal, anima::cg_preconditioner::incomplete_cholesky}) {
+                    cg::params prm;
+                    prm.tolerance = 1e-11;
+                    prm.preconditioner = pre;
+                    const cg solver(p, prm);
+                    const auto r = solver.solve();
+                    CHECK(r.converged);
+                    CHECK(r.relative_residual <= 1e-11);
+                    CHECK(relative_difference(r.u, ref) < 1e-7);
+                    if (g.singular()) CHECK(std::abs(r.u.mean()) < 1e-10);
+                    iterations[pre == anima::cg_preconditioner::incomplete_cholesky] = r.iterations;
+                }
+                if (s.rows == 64) CHECK(iterations[1] < iterations[0]);  // the factor pays
+            }
+    // A masked grid: fixed values outside the unknowns are kept.
+    grid g = make(40, 50);
+    g.mask = awkward_mask(40, 50);
+    const auto p = random_problem(g, 5);
+    const auto r = cg(p).solve();
+    CHECK(r.converged);
+    CHECK(relative_difference(r.u, reference_solution(p)) < 1e-5);
+    // Float, against the double reference: the error is the residual times
+    // the system's condition number (about 470 on a 33 x 33 Dirichlet grid).
+    const auto pd = random_problem(make(33, 33), 9);
+    anima::poisson_problem<float> pf;
+    pf.grid = anima::make_poisson_grid<float>(33, 33, boundary::dirichlet);
+    pf.rhs = pd.rhs.cast<float>();
+    pf.boundary = {pd.boundary.top.cast<float>(), pd.boundary.bottom.cast<float>(), pd.boundary.left.cast<float>(),
+                   pd.boundary.right.cast<float>()};
+    const auto rf = anima::cg_poisson<float>(pf).solve();  // the float default tolerance, 1e-4
+    CHECK(rf.converged);
+    CHECK(rf.relative_residual <= 1e-4f);
+    CHECK(relative_difference(rf.u.cast<double>().eval(), reference_solution(pd)) < 470 * 1e-4);
+    // Bad parameters.
+    cg::params bad;
+    bad.tolerance = 0;
+    CHECK_THROWS_AS(cg(random_problem(make(5, 5), 1), bad), anima::invalid_argument);
+    bad.tolerance = 1e-8;
+    bad.max_iterations = -1;
+    CHECK_THROWS_AS(cg(random_problem(make(5, 5), 1), bad), anima::invalid_argument);
+    // An iteration cap too small to converge is reported, not hidden.
+    cg::params capped;
+    capped.max_iterations = 2;
+    capped.tolerance = 1e-12;
+    const auto few = cg(random_problem(make(64, 64), 3), capped).solve();
+    CHECK_FALSE(few.converged);
+    CHECK(few.iterations <= 2);
+    CHECK(few.relative_residual > 1e-12);
 }
 
 TEST_CASE("unequal spacings") {
