@@ -47,7 +47,7 @@ void run_convert(const convert_options& o) {
     anima::bvh_write_options options;
     // Unless told otherwise, a document is written with as many decimals as
     // the input has (so its numbers come back unchanged), a clip with 6.
-    options.decimals = o.decimals_opt->count() > 0 ? o.decimals : via_clip ? 6 : bvh_value_decimals(input_text);
+    options.decimals = o.decimals_opt->count() > 0 ? o.decimals : via_clip ? 6 : anima::bvh_value_decimals(input_text);
     options.angles = o.euler == "principal" ? anima::euler_angles::principal : anima::euler_angles::continuous;
 
     std::string text;

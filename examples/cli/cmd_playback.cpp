@@ -95,7 +95,7 @@ void run_playback(const playback_options& o) {
         out["window"] = params.radius;
         out["smoothness"] = params.smoothness;
         out["candidate_window"] = params.candidate_radius ? params.candidate_radius : params.radius;
-        out["min_pairs"] = candidate_min_pairs(params, n);
+        out["min_pairs"] = anima::candidate_min_pairs(params, n);
         if (!o.fixed) {
             out["gain"] = o.gain;
             out["penalty"] = o.penalty;

@@ -195,7 +195,7 @@ void run_symmetry(const symmetry_cli_options& o) {
     const anima::symmetry_result<double> r = anima::symmetry_scores(m.features, m.clip.frame_time(), params);
     if (!r.score.allFinite()) throw failure("'" + o.input + "': the symmetry scores are not finite");
     const int candidate_window = params.candidate_radius ? params.candidate_radius : params.radius;
-    const int min_pairs = candidate_min_pairs(params, n);
+    const int min_pairs = anima::candidate_min_pairs(params, n);
     const std::string settings = describe(o, params);
     const double dt = m.clip.frame_time();
 

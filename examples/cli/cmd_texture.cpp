@@ -268,7 +268,7 @@ void run_texture(const texture_options& o) {
     const auto start = clock_type::now();
     const std::string text = read_text_file(o.input);
     const clip_t whole = anima::to_clip(anima::parse_bvh_document<double>(text, o.input));
-    const int decimals = std::max(6, bvh_value_decimals(text));
+    const int decimals = std::max(6, anima::bvh_value_decimals(text));
     if (whole.frames() == 0) throw failure("'" + o.input + "' has no frames");
     std::size_t first = o.first;
     const bool first_given = o.first_opt->count() > 0;

@@ -54,33 +54,6 @@ std::vector<std::string> text_lines(std::string_view text) {
     return lines;
 }
 
-int bvh_value_decimals(std::string_view text) {
-    const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; };
-    const auto digit = [](char c) { return c >= '0' && c <= '9'; };
-    int best = 0;
-    std::size_t i = 0;
-    bool after_time = false;
-    while (i < text.size()) {
-        while (i < text.size() && space(text[i])) ++i;
-        const std::size_t b = i;
-        while (i < text.size() && !space(text[i])) ++i;
-        const std::string_view t = text.substr(b, i - b);
-        const bool frame_time = after_time;
-        after_time = t == "Time:";
-        if (frame_time) continue;
-        // [sign] digits . digits, nothing else
-        std::size_t k = 0;
-        if (k < t.size() && (t[k] == '+' || t[k] == '-')) ++k;
-        std::size_t digits = 0;
-        while (k < t.size() && digit(t[k])) ++k, ++digits;
-        if (k == t.size() || t[k] != '.') continue;
-        int decimals = 0;
-        for (++k; k < t.size() && digit(t[k]); ++k) ++decimals;
-        if (k != t.size() || digits + static_cast<std::size_t>(decimals) == 0) continue;
-        best = std::max(best, std::min(decimals, 17));
-    }
-    return best;
-}
 
 clip_t load_clip(const std::string& path) { return anima::to_clip(load_bvh_document(path)); }
 
@@ -473,7 +446,7 @@ motion_range load_motion_range(const std::string& path, const frame_range_option
     motion_range out;
     out.first = o.first;
     out.clip = o.first == 0 && last + 1 == n ? whole : whole.slice(o.first, last + 1);
-    out.decimals = bvh_value_decimals(text);
+    out.decimals = anima::bvh_value_decimals(text);
     if (o.up_opt && o.up_opt->count() > 0) {
         out.up = parse_signed_axis(o.up);
     } else {
@@ -542,9 +515,5 @@ anima::symmetry_params<double> make_symmetry_params(const symmetry_options& o) {
     return p;
 }
 
-int candidate_min_pairs(const anima::symmetry_params<double>& p, std::size_t frames) {
-    const auto widest = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(p.radius), frames > 0 ? (frames - 1) / 2 : 0));
-    return std::max(1, p.min_pairs ? p.min_pairs : widest);
-}
 
 }  // namespace anima_cli

@@ -55,14 +55,6 @@ std::string read_text_file(const std::string& path);
 /// as old Mac exporters write) and without a leading UTF-8 byte order mark.
 std::vector<std::string> text_lines(std::string_view text);
 
-/// The most decimals any OFFSET or channel value of BVH text is written with
-/// in plain notation ("-0.0198488": 7), at most 17: with that many,
-/// anima::format_bvh gives every such number back unchanged. Numbers in
-/// exponent notation ("3.88251e-19", rounding noise in some exporters' files)
-/// do not count, nor does the Frame Time (which the writer prints in its
-/// shortest exact form).
-int bvh_value_decimals(std::string_view text);
-
 /// Writes text to a file, replacing it atomically (anima::write_file_atomically:
 /// a temporary next to it, renamed into place when complete, so a failed
 /// write leaves an existing file as it was). Throws failure naming the file
@@ -257,9 +249,5 @@ std::vector<CLI::Option*> add_symmetry_options(CLI::App& sub, symmetry_options& 
 /// --window.
 anima::symmetry_params<double> make_symmetry_params(const symmetry_options& o);
 
-/// The pairs a frame needs to be a candidate in a clip of `frames` frames
-/// (symmetry_params::min_pairs with its 0 = radius default, capped at the
-/// most pairs a frame of the clip has, at least 1).
-int candidate_min_pairs(const anima::symmetry_params<double>& p, std::size_t frames);
 
 }  // namespace anima_cli

@@ -3,4 +3,5 @@
 
 #include <anima/bvh/document.hpp>
 #include <anima/bvh/reader.hpp>
+#include <anima/bvh/value_decimals.hpp>
 #include <anima/bvh/writer.hpp>

@@ -4,6 +4,7 @@
 // the right line.
 #include <anima/bvh/document.hpp>
 #include <anima/bvh/reader.hpp>
+#include <anima/bvh/value_decimals.hpp>
 #include <anima/bvh/writer.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
@@ -1102,5 +1103,35 @@ TEST_CASE("parse_bvh<float>") {
     } catch (const anima::parse_error& e) {
         CHECK(e.line() == 24);
         CHECK(contains(e.message(), "non-finite"));
+    }
+}
+
+TEST_CASE("bvh_value_decimals: plain-notation values only, the frame time and exponents left out") {
+    CHECK(anima::bvh_value_decimals("") == 0);
+    CHECK(anima::bvh_value_decimals("OFFSET 1.5 -2.25 3") == 2);
+    CHECK(anima::bvh_value_decimals("Frame Time: 0.0083333\n1.0 2.000") == 3);  // not the 7 of the frame time
+    CHECK(anima::bvh_value_decimals("1e-3 2.5e-7 -3.88251e-19 0.5") == 1);
+    CHECK(anima::bvh_value_decimals(".5 +7.25") == 2);
+    CHECK(anima::bvh_value_decimals("-0. 12") == 0);
+    CHECK(anima::bvh_value_decimals("1.1234567890123456789012") == 17);  // at most 17
+    CHECK(anima::bvh_value_decimals("CHANNELS 6 Xposition\tYposition\r\n0.123\r\n") == 3);
+    // The bundled clips, against a count of their own: the longest run of
+    // digits after a point in a plain number, skipping the frame time.
+    for (const char* name : {"walk_cmu31_02_01.bvh", "run_cmu_09_01.bvh"}) {
+        std::ifstream in(data_path(name));
+        std::string word, previous;
+        int most = 0;
+        while (in >> word) {
+            const bool frame_time = previous == "Time:";
+            previous = word;
+            const auto dot = word.find('.');
+            if (frame_time || dot == std::string::npos || word.find_first_of("eE") != std::string::npos) continue;
+            most = std::max(most, static_cast<int>(word.size() - dot - 1));
+        }
+        std::ifstream again(data_path(name));
+        const std::string text((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>());
+        CAPTURE(name);
+        CHECK(most > 0);
+        CHECK(anima::bvh_value_decimals(text) == most);
     }
 }

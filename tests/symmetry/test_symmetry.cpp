@@ -520,6 +520,29 @@ TEST_CASE_TEMPLATE("Eq 5: by default a candidate has the full window of pairs, s
     CHECK(contains(invalid_argument_message([&] { anima::symmetry_scores(m, T(0.01), p); }), "min_pairs"));
 }
 
+TEST_CASE_TEMPLATE("candidate_min_pairs: the radius by default, capped by the clip, or as given", T, float, double) {
+    anima::symmetry_params<T> p;
+    p.radius = 10;
+    CHECK(anima::candidate_min_pairs(p, 343) == 10);
+    CHECK(anima::candidate_min_pairs(p, 21) == 10);  // the middle frame has 10 pairs
+    CHECK(anima::candidate_min_pairs(p, 20) == 9);
+    CHECK(anima::candidate_min_pairs(p, 5) == 2);
+    CHECK(anima::candidate_min_pairs(p, 1) == 1);  // at least 1
+    CHECK(anima::candidate_min_pairs(p, 0) == 1);
+    p.min_pairs = 4;
+    CHECK(anima::candidate_min_pairs(p, 343) == 4);
+    CHECK(anima::candidate_min_pairs(p, 5) == 4);  // as given, even above what the clip has
+    // It is what symmetry_scores uses: every candidate of a short clip has
+    // at least that many pairs, and some frame with one pair fewer exists.
+    const matrix<T> m = features(walk<T>()).topRows(31);
+    anima::symmetry_params<T> q = params_for<T>(frame_metric::mahalanobis);
+    q.radius = 20;
+    const auto r = anima::symmetry_scores(m, walk<T>().frame_time(), q);
+    const int need = anima::candidate_min_pairs(q, 31);
+    CHECK(need == 15);
+    for (const auto& c : r.candidates) CHECK(r.pairs[c.frame] >= need);
+}
+
 TEST_CASE_TEMPLATE("a real clip played forwards to frame k and back is most symmetric at k, both metrics", T, float, double) {
     struct trial {
         const anima::clip<T>* source;

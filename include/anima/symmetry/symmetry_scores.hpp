@@ -43,6 +43,17 @@ struct symmetry_params {
     int min_pairs = 0;
 };
 
+/// The fewest pairs a frame of a clip of `frames` frames must be compared on
+/// to be a turning candidate: params.min_pairs, or when that is 0 the
+/// radius capped at the most pairs any frame has ((frames - 1) / 2); at
+/// least 1.
+template <class T>
+int candidate_min_pairs(const symmetry_params<T>& params, std::size_t frames) {
+    const std::size_t most = frames > 0 ? (frames - 1) / 2 : 0;
+    const int widest = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(params.radius, 0)), most));
+    return std::max(1, params.min_pairs ? params.min_pairs : widest);
+}
+
 /// A frame where playback may reverse.
 template <class T>
 struct turning_candidate {
@@ -205,7 +216,7 @@ symmetry_result<typename Derived::Scalar> symmetry_scores(const Eigen::MatrixBas
         out.score[i] = largest > T(0) ? T(1) - out.weighted_distance[i] / largest : T(1);
     }
     out.candidates = turning_candidates(out.score, out.pairs, params.candidate_radius ? params.candidate_radius : params.radius,
-                                        std::max(1, params.min_pairs ? params.min_pairs : widest));
+                                        candidate_min_pairs(params, static_cast<std::size_t>(dofs.rows())));
     return out;
 }
 
