@@ -14,6 +14,7 @@
 #pragma once
 
 #include <anima/core/constants.hpp>
+#include <anima/core/eigen_types.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/rotation/exp_log.hpp>
@@ -29,10 +30,11 @@
 
 namespace anima {
 
+/// The IK names of the shared dynamic-size aliases (core/eigen_types.hpp).
 template <class T>
-using ik_vector = Eigen::Matrix<T, Eigen::Dynamic, 1>;
+using ik_vector = vector_x<T>;
 template <class T>
-using ik_matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+using ik_matrix = matrix_x<T>;
 
 namespace detail {
 template <class T>
