@@ -136,7 +136,7 @@ struct solver_setup {
 
 /// The library's solvers and the learned one.
 std::vector<std::string> solver_names() {
-    auto names = anima::ik_solver_names();
+    auto names = anima::enum_name_list<anima::ik_solver>();
     names.push_back("learned");
     return names;
 }

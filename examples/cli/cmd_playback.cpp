@@ -166,7 +166,7 @@ void register_playback(CLI::App& app) {
     sub->add_option("--root", opts->root,
                     "The root's ground path: recorded (the source frame's), in_place, accumulated (the source's "
                     "steps added up) or keep_direction (reversed steps negated)")
-        ->check(CLI::IsMember({"recorded", "in_place", "accumulated", "keep_direction"}))
+        ->check(CLI::IsMember(anima::enum_name_list<anima::root_path>()))
         ->capture_default_str();
     opts->start_opt = sub->add_option("--start", opts->start,
                                       "Frame to start at (default: the first candidate, or the first frame with "

@@ -233,7 +233,7 @@ void register_poisson(CLI::App& app) {
         ->check(number_in(0, 1, true, true))
         ->capture_default_str();
     sub->add_option("--cycle", opts->cycle, "Multigrid cycle: v or w")
-        ->check(CLI::IsMember({"v", "w"}))
+        ->check(CLI::IsMember(anima::enum_name_list<anima::multigrid_cycle>()))
         ->capture_default_str();
     sub->add_option("--pre", opts->pre, "Multigrid smoothing sweeps before the coarse correction")
         ->check(integer_in(0, 1000))

@@ -6,7 +6,8 @@
 //   synth MODEL LANDMARKS   a face for a landmark file, optionally pasted
 //                           into a neutral frame with Poisson blending.
 // DIR is laid out as ../shared/data/face: images/NAME.{jpg,png,pgm,ppm} and
-// points/NAME.pts, frames taken in name order. JPEG and PNG need stb.
+// points/NAME.pts, frames taken in name order (anima/sadm/frame_folder.hpp
+// reads it). JPEG and PNG need stb.
 #include "commands.hpp"
 #include "common.hpp"
 
@@ -102,72 +103,37 @@ void check_inside(const landmarks_t& lm, const grey& image, const std::string& p
     }
 }
 
-struct frame_set {
-    std::vector<std::string> names;
-    std::vector<grey> images;
-    std::vector<landmarks_t> landmarks;
-};
+using frames_t = anima::frame_set<double>;
 
-/// Which frames of a sorted directory a command uses.
-struct split_options {
-    std::string hold_out;  // "", "every:N" or "last:N"
-};
-
-/// Frame k of `count` is held out (a test frame) under the split.
-std::vector<bool> held_out(const std::string& spec, std::size_t count) {
-    std::vector<bool> out(count, false);
-    if (spec.empty()) return out;
-    const auto colon = spec.find(':');
-    const std::string kind = spec.substr(0, colon);
-    std::size_t n = 0;
-    try {
-        n = colon == std::string::npos ? 0 : std::stoul(spec.substr(colon + 1));
-    } catch (const std::exception&) {
-        n = 0;
-    }
-    if ((kind != "every" && kind != "last") || n == 0)
-        throw CLI::ValidationError("--hold-out", "'" + spec + "': use every:N (every Nth frame) or last:N (the last N frames)");
-    for (std::size_t k = 0; k < count; ++k) out[k] = kind == "every" ? k % n == n - 1 : k + n >= count;
-    return out;
+/// The frames of DIR a command uses (anima::load_frame_folder): with
+/// --hold-out, train takes the frames the rule leaves and eval the ones it
+/// holds out; without it both take every frame. JPEG and PNG go through stb.
+frames_t load_frames(const std::string& dir, const std::string& hold_out, bool test, bool progress) {
+    const auto which = hold_out.empty() ? anima::frame_selection::all
+                       : test           ? anima::frame_selection::test
+                                        : anima::frame_selection::training;
+    anima::frame_load_options<double> options;
+    options.decode = load_grey;
+    if (progress)
+        options.progress = [](std::size_t done, std::size_t) {
+            if (done % 50 == 0) std::cerr << "anima: read " << done << " frames\n";
+        };
+    return anima::load_frame_folder(dir, anima::parse_frame_split(hold_out), which, options);
 }
 
-/// The frames of DIR (images/NAME.* with points/NAME.pts) in name order;
-/// `test` picks the held-out ones, otherwise the others.
-frame_set load_frames(const std::string& dir, const std::string& hold_out, bool test, bool progress) {
-    const std::filesystem::path points = std::filesystem::path(dir) / "points", images = std::filesystem::path(dir) / "images";
-    if (!std::filesystem::is_directory(points) || !std::filesystem::is_directory(images))
-        throw failure("'" + dir + "' needs the folders images/ and points/ (NAME.jpg|png|pgm with NAME.pts)");
-    std::vector<std::string> names;
-    for (const auto& e : std::filesystem::directory_iterator(points))
-        if (e.path().extension() == ".pts") names.push_back(e.path().stem().string());
-    std::sort(names.begin(), names.end());
-    if (names.empty()) throw failure("'" + points.string() + "' holds no .pts file");
-    const std::vector<bool> held = held_out(hold_out, names.size());
-    frame_set out;
-    std::string first_pts;
-    for (std::size_t k = 0; k < names.size(); ++k) {
-        if (held[k] != test && !hold_out.empty()) continue;
-        std::string image;
-        for (const char* ext : {".jpg", ".png", ".pgm", ".ppm", ".jpeg"})
-            if (std::filesystem::exists(images / (names[k] + ext))) {
-                image = (images / (names[k] + ext)).string();
-                break;
+/// --hold-out is checked with the options, before any file is read.
+CLI::Validator hold_out_rule() {
+    return CLI::Validator(
+        [](std::string& value) -> std::string {
+            try {
+                (void)anima::parse_frame_split(value);
+                return {};
+            } catch (const anima::invalid_argument& e) {
+                const std::string what = e.what(), prefix = "anima::parse_frame_split: ";
+                return what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
             }
-        if (image.empty()) throw failure("no image for '" + names[k] + ".pts' in '" + images.string() + "'");
-        const std::string pts = (points / (names[k] + ".pts")).string();
-        out.names.push_back(names[k]);
-        out.images.push_back(load_grey(image));
-        out.landmarks.push_back(anima::read_pts<double>(pts));
-        if (out.landmarks.back().rows() != out.landmarks.front().rows())
-            throw failure("'" + pts + "' has " + std::to_string(out.landmarks.back().rows()) + " points, '" +
-                          first_pts + "' has " + std::to_string(out.landmarks.front().rows()) +
-                          ": every frame needs the same landmarks");
-        if (first_pts.empty()) first_pts = pts;
-        check_inside(out.landmarks.back(), out.images.back(), pts, image);
-        if (progress && (out.images.size() % 50 == 0)) std::cerr << "anima: read " << out.images.size() << " frames\n";
-    }
-    if (out.images.size() < 2) throw failure("'" + dir + "': fewer than 2 frames selected");
-    return out;
+        },
+        "", "hold-out rule");
 }
 
 anima::sadm_model<double> load_model(const std::string& path) {
@@ -190,7 +156,7 @@ struct train_options {
 void run_train(const train_options& o) {
     check_outputs({{"--out", &o.output}});
     const auto start = std::chrono::steady_clock::now();
-    const frame_set frames = load_frames(o.dir, o.hold_out, false, o.progress);
+    const frames_t frames = load_frames(o.dir, o.hold_out, false, o.progress);
     anima::sadm_options<double> options;
     options.mapping = anima::parse_regressor_kind(o.regressor);
     options.shape.pca = {o.shape_variance, 0};
@@ -236,7 +202,7 @@ struct eval_options {
 /// A strip for the docs: ground truth, synthesis, synthesis with noisy
 /// landmarks (rows) for up to 4 frames (columns), each cropped to the face.
 /// The synthesised face is Poisson-pasted into its own frame.
-void write_figure(const std::string& path, const anima::sadm_model<double>& model, const frame_set& f, double noise,
+void write_figure(const std::string& path, const anima::sadm_model<double>& model, const frames_t& f, double noise,
                   std::uint64_t seed) {
     require_png("--figure");
     const std::size_t count = std::min<std::size_t>(4, f.images.size());
@@ -275,7 +241,7 @@ void write_figure(const std::string& path, const anima::sadm_model<double>& mode
 void run_eval(const eval_options& o) {
     check_grey_output(o.figure, "--figure");
     const auto model = load_model(o.model);
-    const frame_set frames = load_frames(o.dir, o.hold_out, true, o.progress);
+    const frames_t frames = load_frames(o.dir, o.hold_out, true, o.progress);
     anima::sadm_evaluation_options<double> options;
     options.noise = o.noise;
     options.seed = o.seed;
@@ -356,9 +322,9 @@ void register_sadm(CLI::App& app) {
     train->add_option("DIR", t->dir, dir_help)->required()->type_name("DIR");
     train->add_option("--out", t->output, "Model file to write")->required()->type_name("MODEL");
     train->add_option("--regressor", t->regressor, "b_s -> b_g mapping")
-        ->check(CLI::IsMember({"linear", "poly2", "mlp", "svr"}))
+        ->check(CLI::IsMember(anima::enum_name_list<anima::regressor_kind>()))
         ->capture_default_str();
-    train->add_option("--hold-out", t->hold_out, split_help)->type_name("every:N|last:N");
+    train->add_option("--hold-out", t->hold_out, split_help)->check(hold_out_rule())->type_name("every:N|last:N");
     train->add_option("--shape-variance", t->shape_variance, "Fraction of shape variance kept")
         ->check(number_in(0, 1, true))
         ->capture_default_str();
@@ -378,7 +344,7 @@ void register_sadm(CLI::App& app) {
     eval->add_option("--noise", e->noise, "Gaussian noise (standard deviation, pixels) on the landmarks")
         ->check(number_in(0, 1000));
     eval->add_option("--seed", e->seed, "Seed of the noise")->check(count_up_to(~0ULL));
-    eval->add_option("--hold-out", e->hold_out, split_help)->type_name("every:N|last:N");
+    eval->add_option("--hold-out", e->hold_out, split_help)->check(hold_out_rule())->type_name("every:N|last:N");
     eval->add_option("--figure", e->figure,
                      "PNG/PGM: ground truth, synthesis and synthesis with noise (--noise, else 2 px) for 4 frames")
         ->type_name("IMAGE");

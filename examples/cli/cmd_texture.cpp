@@ -377,10 +377,10 @@ void register_texture(CLI::App& app) {
         ->capture_default_str();
     sub->add_flag("--hard-cut", opts->hard_cut, "Switch at the seam without a fade");
     sub->add_option("--capacity", opts->capacity, "Seam capacity: normalized (Kwatra's M / grad), exponential or plain")
-        ->check(CLI::IsMember({"normalized", "exponential", "plain"}))
+        ->check(CLI::IsMember(anima::enum_name_list<anima::seam_capacity>()))
         ->capture_default_str();
     sub->add_option("--metric", opts->metric, "Frame distance of the offset search: mahalanobis (Eq 2) or l2 (Eq 1)")
-        ->check(CLI::IsMember({"mahalanobis", "l2"}))
+        ->check(CLI::IsMember(anima::enum_name_list<anima::frame_metric>()))
         ->capture_default_str();
     sub->add_option("--neighbour-weight", opts->neighbour_weight, "Tie between neighbouring joints' seams (0: independent)")
         ->type_name("W")
@@ -390,12 +390,12 @@ void register_texture(CLI::App& app) {
         ->check(CLI::IsMember({"1d", "2d", "none"}))
         ->capture_default_str();
     sub->add_option("--solver", opts->solver, "Poisson solver: multigrid or dst")
-        ->check(CLI::IsMember({"multigrid", "dst"}))
+        ->check(CLI::IsMember(anima::enum_name_list<anima::poisson_method>()))
         ->capture_default_str();
     sub->add_flag("--keep-heading", opts->keep_heading,
                   "Compare and blend the figure's heading like any rotation (it then turns back in the overlap)");
     sub->add_option("--root", opts->root, "The root's ground path: accumulated, keep_direction, in_place or recorded")
-        ->check(CLI::IsMember({"recorded", "in_place", "accumulated", "keep_direction"}))
+        ->check(CLI::IsMember(anima::enum_name_list<anima::root_path>()))
         ->capture_default_str();
     auto* symmetric = sub->add_flag("--symmetric", opts->symmetric,
                                     "Mix in symmetric playback: at turning candidates play backwards for a while");

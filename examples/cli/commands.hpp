@@ -21,6 +21,7 @@ void register_playback(CLI::App& app);
 void register_poisson(CLI::App& app);
 void register_smooth(CLI::App& app);
 void register_maxflow(CLI::App& app);
+void register_contacts(CLI::App& app);
 void register_texture(CLI::App& app);
 void register_ik(CLI::App& app);
 void register_flight(CLI::App& app);

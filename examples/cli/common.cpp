@@ -476,7 +476,7 @@ motion_range load_motion_range(const std::string& path, const frame_range_option
 
 std::vector<CLI::Option*> add_symmetry_options(CLI::App& sub, symmetry_options& o) {
     return {sub.add_option("--metric", o.metric, "Frame distance: mahalanobis (Eq 2) or l2 (Eq 1)")
-                ->check(CLI::IsMember({"mahalanobis", "l2"}))
+                ->check(CLI::IsMember(anima::enum_name_list<anima::frame_metric>()))
                 ->capture_default_str(),
             sub.add_option("--window", o.window, "n of Eq 3: frames i-r and i+r are compared for r = 1..N")
                 ->type_name("N")

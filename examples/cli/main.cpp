@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
     register_poisson(app);
     register_smooth(app);
     register_maxflow(app);
+    register_contacts(app);
     register_texture(app);
     register_ik(app);
     register_flight(app);

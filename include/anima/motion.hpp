@@ -4,6 +4,7 @@
 
 #include <anima/motion/body_sides.hpp>
 #include <anima/motion/clip.hpp>
+#include <anima/motion/contacts.hpp>
 #include <anima/motion/dof_view.hpp>
 #include <anima/motion/figure.hpp>
 #include <anima/motion/finite_difference.hpp>

@@ -2,7 +2,8 @@
 // dimensions, Procrustes alignment, Delaunay triangulation and
 // piecewise-affine warps, the shape (Eq 1) and grey-level (Eq 2) models,
 // regressors from shape to grey parameters, synthesis with Poisson pasting,
-// the model file and the paper's evaluation (NCC, PSNR).
+// the model file, the paper's evaluation (NCC, PSNR) and the reader of a
+// folder of frames with landmarks.
 #pragma once
 
 #include <anima/image.hpp>
@@ -10,6 +11,7 @@
 #include <anima/sadm/delaunay.hpp>
 #include <anima/sadm/evaluate_model.hpp>
 #include <anima/sadm/evaluation.hpp>
+#include <anima/sadm/frame_folder.hpp>
 #include <anima/sadm/landmarks.hpp>
 #include <anima/sadm/pca.hpp>
 #include <anima/sadm/piecewise_affine_warp.hpp>

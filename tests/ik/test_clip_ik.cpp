@@ -177,9 +177,9 @@ TEST_CASE_TEMPLATE("solve_clip_ik: one-frame clips, no goals, unreachable target
 
 TEST_CASE_TEMPLATE("solve_ik_with: every named solver reaches reachable targets on the 7-DOF arm", T, float, double) {
     for (const anima::ik_solver s : anima::ik_solvers) CHECK(anima::parse_ik_solver(anima::to_string(s)) == s);
-    CHECK(anima::ik_solver_names() == std::vector<std::string>{"pinv", "dls", "ccd", "bfgs", "lm"});
+    CHECK(anima::enum_name_list<anima::ik_solver>() == std::vector<std::string>{"pinv", "dls", "ccd", "bfgs", "lm"});
     CHECK(anima_test::contains(anima_test::invalid_argument_message([] { anima::parse_ik_solver("newton"); }),
-                               "'newton' is not an IK solver: use pinv, dls, ccd, bfgs, lm"));
+                               "'newton' is not an IK solver: use pinv, dls, ccd, bfgs or lm"));
 
     const auto tree = anima_ik_test::seven_dof_arm<T>();
     anima::random_source rng(31);

@@ -144,7 +144,7 @@ TEST_CASE_TEMPLATE("bfgs_minimize reports how it stopped", T, float, double) {
         CHECK(result.status == anima::optimize_status::stopped);
         CHECK(calls == 2);
         CHECK(result.iterations == 2);
-        CHECK(to_string(result.status) == "stopped");
+        CHECK(std::string(to_string(result.status)) == "stopped");
     }
     SUBCASE("a function with no minimum stalls or runs out, never NaN") {
         auto f = [](const vector_x<T>& x, vector_x<T>& g) {

@@ -11,6 +11,7 @@
 // (clavicles, fingers, toes, the neck) are massless.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/flight/anthropometry.hpp>
 #include <anima/motion/forward_kinematics.hpp>
@@ -175,9 +176,7 @@ rigid_body_model<T> make_body_model(const skeleton<T>& sk, const body_model_para
     using matrix3 = Eigen::Matrix<T, 3, 3>;
     const char* where = "anima::make_body_model";
     if (sk.empty()) throw invalid_argument(std::string(where) + ": empty skeleton");
-    if (!(params.body_mass > T(0)) || !std::isfinite(params.body_mass))
-        throw invalid_argument(std::string(where) + ": body_mass must be positive and finite, got " +
-                               std::to_string(static_cast<double>(params.body_mass)));
+    check_positive(where, "body_mass", params.body_mass);
     if (!(params.metres_per_unit >= T(0)) || !std::isfinite(params.metres_per_unit))
         throw invalid_argument(std::string(where) + ": metres_per_unit must be >= 0 and finite, got " +
                                std::to_string(static_cast<double>(params.metres_per_unit)));

@@ -3,6 +3,7 @@
 // a clip for writing as BVH.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/flight/flight_objective.hpp>
 #include <anima/flight/key_trajectory.hpp>
@@ -28,12 +29,8 @@ clip<T> flight_clip(const flight_problem<T>& problem, const flight_keys<T>& keys
                                " joints, the body model " + std::to_string(problem.model().size()));
     if (sk.translation_slot(0) < 0)
         throw invalid_argument(std::string(who) + ": the root joint '" + sk[0].name + "' has no position channels");
-    if (!(metres_per_unit > T(0)) || !std::isfinite(metres_per_unit))
-        throw invalid_argument(std::string(who) + ": metres_per_unit must be positive and finite, got " +
-                               std::to_string(static_cast<double>(metres_per_unit)));
-    if (!(frame_time > T(0)) || !std::isfinite(frame_time))
-        throw invalid_argument(std::string(who) + ": frame_time must be positive and finite, got " +
-                               std::to_string(static_cast<double>(frame_time)));
+    check_positive(who, "metres_per_unit", metres_per_unit);
+    check_positive(who, "frame_time", frame_time);
     const auto traj = key_trajectory<T>::from_keys(keys);
     const T span = traj.end_time() - traj.start_time();
     const auto frames = static_cast<std::size_t>(std::floor(span / frame_time + T(1e-3))) + 1;

@@ -8,6 +8,7 @@
 // random restarts, and a result that is the best pose seen, never NaN.
 #pragma once
 
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
 #include <anima/ik/goal.hpp>
@@ -32,14 +33,14 @@ enum class ik_status : unsigned char {
     singular              ///< the rule could not invert J (jacobian_inverse only)
 };
 
-inline const char* to_string(ik_status s) {
-    switch (s) {
-        case ik_status::converged: return "converged";
-        case ik_status::unreachable_closest: return "unreachable_closest";
-        case ik_status::max_iterations: return "max_iterations";
-        default: return "singular";
-    }
-}
+template <>
+struct enum_names<ik_status> {
+    static constexpr const char* what = "IK status";
+    static constexpr enum_entry<ik_status> entries[] = {{ik_status::converged, "converged"},
+                                                        {ik_status::unreachable_closest, "unreachable_closest"},
+                                                        {ik_status::max_iterations, "max_iterations"},
+                                                        {ik_status::singular, "singular"}};
+};
 
 /// Options shared by every IK solver.
 template <class T>

@@ -4,6 +4,7 @@
 // limits, restarts and null-space task, so they can be swapped or compared.
 #pragma once
 
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/ik/bfgs_ik.hpp>
 #include <anima/ik/ccd.hpp>
@@ -15,6 +16,7 @@
 
 #include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace anima {
@@ -27,37 +29,26 @@ enum class ik_solver : unsigned char {
     levenberg_marquardt,  ///< Levenberg-Marquardt with limits in the step
 };
 
-/// Every solver, in the order of ik_solver_names().
+/// Every solver, in the order of enum_name_list<ik_solver>().
 inline constexpr std::array<ik_solver, 5> ik_solvers = {ik_solver::pseudo_inverse, ik_solver::damped_least_squares,
                                                         ik_solver::ccd, ik_solver::bfgs,
                                                         ik_solver::levenberg_marquardt};
 
 /// Short names: "pinv", "dls", "ccd", "bfgs", "lm".
-inline const char* to_string(ik_solver s) {
-    switch (s) {
-        case ik_solver::pseudo_inverse: return "pinv";
-        case ik_solver::damped_least_squares: return "dls";
-        case ik_solver::ccd: return "ccd";
-        case ik_solver::bfgs: return "bfgs";
-        case ik_solver::levenberg_marquardt: return "lm";
-    }
-    return "unknown";
-}
+template <>
+struct enum_names<ik_solver> {
+    static constexpr const char* what = "IK solver";
+    static constexpr enum_entry<ik_solver> entries[] = {{ik_solver::pseudo_inverse, "pinv"},
+                                                        {ik_solver::damped_least_squares, "dls"},
+                                                        {ik_solver::ccd, "ccd"},
+                                                        {ik_solver::bfgs, "bfgs"},
+                                                        {ik_solver::levenberg_marquardt, "lm"}};
+};
 
-inline std::vector<std::string> ik_solver_names() {
-    std::vector<std::string> names;
-    for (const ik_solver s : ik_solvers) names.emplace_back(to_string(s));
-    return names;
-}
-
-/// The solver of a short name; anima::invalid_argument naming the choices
-/// for any other.
-inline ik_solver parse_ik_solver(const std::string& name) {
-    for (const ik_solver s : ik_solvers)
-        if (name == to_string(s)) return s;
-    std::string choices;
-    for (const auto& n : ik_solver_names()) choices += (choices.empty() ? "" : ", ") + n;
-    throw invalid_argument("anima::parse_ik_solver: '" + name + "' is not an IK solver: use " + choices);
+/// The solver of a short name (any case); anima::invalid_argument naming
+/// the choices for any other.
+inline ik_solver parse_ik_solver(std::string_view name) {
+    return parse_enum<ik_solver>(name, "anima::parse_ik_solver");
 }
 
 /// Solves the goals with the chosen solver from `start`. The solver-specific

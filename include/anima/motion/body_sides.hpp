@@ -4,6 +4,7 @@
 // pose, as BVH files record neither.
 #pragma once
 
+#include <anima/core/enum_names.hpp>
 #include <anima/core/text.hpp>
 #include <anima/motion/figure.hpp>
 #include <anima/motion/forward_kinematics.hpp>
@@ -21,14 +22,12 @@ namespace anima {
 
 enum class body_side : unsigned char { centre, left, right };
 
-inline const char* to_string(body_side s) {
-    switch (s) {
-        case body_side::left: return "left";
-        case body_side::right: return "right";
-        case body_side::centre: return "centre";
-    }
-    return "centre";
-}
+template <>
+struct enum_names<body_side> {
+    static constexpr const char* what = "body side";
+    static constexpr enum_entry<body_side> entries[] = {
+        {body_side::centre, "centre"}, {body_side::left, "left"}, {body_side::right, "right"}};
+};
 
 /// The side a joint name says: "left"/"right" anywhere in any case
 /// (LeftUpLeg, RightHand), or a leading l/L or r/R followed by an upper-case

@@ -3,6 +3,7 @@
 // that carry position channels (the root, usually).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/skeleton.hpp>
 
@@ -43,9 +44,7 @@ public:
     T duration() const noexcept { return frames_ > 1 ? frame_time_ * static_cast<T>(frames_ - 1) : T(0); }
 
     void set_frame_time(T frame_time) {
-        if (!(frame_time > T(0)) || !std::isfinite(frame_time))
-            throw invalid_argument("anima::clip: frame time must be positive and finite, got " +
-                                   std::to_string(static_cast<double>(frame_time)));
+        check_positive("anima::clip", "frame time", frame_time);
         frame_time_ = frame_time;
     }
 

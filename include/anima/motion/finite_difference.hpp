@@ -2,6 +2,7 @@
 // module that needs velocities (symmetry metrics, transitions, IK training).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 
 #include <Eigen/Core>
@@ -20,9 +21,7 @@ template <class Derived>
 Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, Eigen::Dynamic> time_derivative(
     const Eigen::MatrixBase<Derived>& samples, typename Derived::Scalar dt) {
     using T = typename Derived::Scalar;
-    if (!(dt > T(0)) || !std::isfinite(dt))
-        throw invalid_argument("anima::time_derivative: time step must be positive and finite, got " +
-                               std::to_string(static_cast<double>(dt)));
+    check_positive("anima::time_derivative", "time step", dt);
     const Eigen::Index n = samples.rows();
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> d(n, samples.cols());
     if (n == 0) return d;

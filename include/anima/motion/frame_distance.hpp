@@ -8,6 +8,8 @@
 // exp(-d / sigma) it gives video-texture transition probabilities.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/finite_difference.hpp>
 
@@ -26,13 +28,16 @@ enum class frame_metric : unsigned char {
     l2            ///< Eq 1's distance: sum over joints of ||a_k - b_k||
 };
 
-inline std::string to_string(frame_metric m) { return m == frame_metric::l2 ? "l2" : "mahalanobis"; }
+template <>
+struct enum_names<frame_metric> {
+    static constexpr const char* what = "metric";
+    static constexpr enum_entry<frame_metric> entries[] = {{frame_metric::mahalanobis, "mahalanobis"},
+                                                           {frame_metric::l2, "l2"}};
+};
 
-/// "mahalanobis" or "l2"; throws anima::invalid_argument otherwise.
+/// "mahalanobis" or "l2" (any case); throws anima::invalid_argument otherwise.
 inline frame_metric parse_frame_metric(std::string_view name) {
-    if (name == "mahalanobis") return frame_metric::mahalanobis;
-    if (name == "l2") return frame_metric::l2;
-    throw invalid_argument("anima::parse_frame_metric: '" + std::string(name) + "' is not a metric: use mahalanobis or l2");
+    return parse_enum<frame_metric>(name, "anima::parse_frame_metric");
 }
 
 template <class T>
@@ -74,9 +79,7 @@ struct frame_distance {
 namespace detail {
 template <class T>
 void check_frame_time(T frame_time, const char* function) {
-    if (!(frame_time > T(0)) || !std::isfinite(frame_time))
-        throw invalid_argument(std::string(function) + ": frame time must be positive and finite, got " +
-                               std::to_string(static_cast<double>(frame_time)));
+    check_positive(function, "frame time", frame_time);
 }
 
 template <class Derived>
@@ -192,9 +195,7 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> distance_matrix(const Eigen::Ma
 /// anima::invalid_argument for a negative or NaN distance or a bad sigma.
 template <class T>
 T l2_similarity(T distance, T sigma) {
-    if (!(sigma > T(0)) || !std::isfinite(sigma))
-        throw invalid_argument("anima::l2_similarity: sigma must be positive and finite, got " +
-                               std::to_string(static_cast<double>(sigma)));
+    check_positive("anima::l2_similarity", "sigma", sigma);
     if (!(distance >= T(0)))
         throw invalid_argument("anima::l2_similarity: distance must be >= 0, got " +
                                std::to_string(static_cast<double>(distance)));

@@ -3,6 +3,7 @@
 // a new rotation-channel order for writing.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
@@ -67,9 +68,7 @@ clip<T> change_up_axis(const clip<T>& c, signed_axis from, signed_axis to) {
 /// translations. Rotations are unchanged.
 template <class T>
 clip<T> scale_clip(const clip<T>& c, T s) {
-    if (!(s > T(0)) || !std::isfinite(s))
-        throw invalid_argument("anima::scale_clip: scale must be positive and finite, got " +
-                               std::to_string(static_cast<double>(s)));
+    check_positive("anima::scale_clip", "scale", s);
     skeleton<T> sk;
     for (std::size_t j = 0; j < c.joints(); ++j) {
         const auto& jt = c.skeleton()[j];

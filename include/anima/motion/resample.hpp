@@ -2,6 +2,7 @@
 // translations linearly between the two nearest source frames.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/rotation/slerp.hpp>
@@ -29,9 +30,7 @@ std::size_t resampled_frame(std::size_t f, T source_frame_time, const clip<T>& r
 /// keeps its frames.
 template <class T>
 clip<T> resample(const clip<T>& c, T frame_time) {
-    if (!(frame_time > T(0)) || !std::isfinite(frame_time))
-        throw invalid_argument("anima::resample: frame time must be positive and finite, got " +
-                               std::to_string(static_cast<double>(frame_time)));
+    check_positive("anima::resample", "frame time", frame_time);
     if (c.frames() < 2) {
         clip<T> out = c;
         out.set_frame_time(frame_time);

@@ -5,6 +5,7 @@
 // path of its own. The root's height always comes from the source frame.
 #pragma once
 
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/figure.hpp>
@@ -35,22 +36,18 @@ enum class root_path : unsigned char {
     keep_direction
 };
 
-inline std::string to_string(root_path p) {
-    switch (p) {
-        case root_path::recorded: return "recorded";
-        case root_path::in_place: return "in_place";
-        case root_path::accumulated: return "accumulated";
-        case root_path::keep_direction: return "keep_direction";
-    }
-    return "recorded";
-}
+template <>
+struct enum_names<root_path> {
+    static constexpr const char* what = "root path";
+    static constexpr enum_entry<root_path> entries[] = {{root_path::recorded, "recorded"},
+                                                        {root_path::in_place, "in_place"},
+                                                        {root_path::accumulated, "accumulated"},
+                                                        {root_path::keep_direction, "keep_direction"}};
+};
 
-/// "recorded", "in_place", "accumulated" or "keep_direction".
+/// "recorded", "in_place", "accumulated" or "keep_direction" (any case); throws anima::invalid_argument otherwise.
 inline root_path parse_root_path(std::string_view name) {
-    for (root_path p : {root_path::recorded, root_path::in_place, root_path::accumulated, root_path::keep_direction})
-        if (name == to_string(p)) return p;
-    throw invalid_argument("anima::parse_root_path: '" + std::string(name) +
-                           "' is not a root path: use recorded, in_place, accumulated or keep_direction");
+    return parse_enum<root_path>(name, "anima::parse_root_path");
 }
 
 struct resequence_params {

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <anima/core/eigen_types.hpp>
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 
 namespace anima {
@@ -22,15 +23,14 @@ enum class optimize_status {
     stopped,         ///< the on_iteration callback asked to stop
 };
 
-constexpr std::string_view to_string(optimize_status status) noexcept {
-    switch (status) {
-    case optimize_status::converged: return "converged";
-    case optimize_status::max_iterations: return "max_iterations";
-    case optimize_status::stalled: return "stalled";
-    case optimize_status::stopped: return "stopped";
-    }
-    return "unknown";
-}
+template <>
+struct enum_names<optimize_status> {
+    static constexpr const char* what = "optimiser status";
+    static constexpr enum_entry<optimize_status> entries[] = {{optimize_status::converged, "converged"},
+                                                              {optimize_status::max_iterations, "max_iterations"},
+                                                              {optimize_status::stalled, "stalled"},
+                                                              {optimize_status::stopped, "stopped"}};
+};
 
 template <class T>
 struct optimize_result {

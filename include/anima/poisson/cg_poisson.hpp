@@ -4,6 +4,8 @@
 // optionally preconditioned by an incomplete Cholesky factor.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/poisson/grid.hpp>
 #include <anima/poisson/laplacian.hpp>
@@ -23,9 +25,12 @@ enum class cg_preconditioner : unsigned char {
     incomplete_cholesky,   ///< IC(0)-like factor: fewer iterations, a costlier setup
 };
 
-inline const char* to_string(cg_preconditioner p) {
-    return p == cg_preconditioner::incomplete_cholesky ? "incomplete_cholesky" : "diagonal";
-}
+template <>
+struct enum_names<cg_preconditioner> {
+    static constexpr const char* what = "preconditioner";
+    static constexpr enum_entry<cg_preconditioner> entries[] = {
+        {cg_preconditioner::diagonal, "diagonal"}, {cg_preconditioner::incomplete_cholesky, "incomplete_cholesky"}};
+};
 
 template <class T>
 class cg_poisson {
@@ -41,9 +46,7 @@ public:
     explicit cg_poisson(const poisson_problem<T>& p, const params& prm = params())
         : problem_(p), prm_(prm), system_(assemble_poisson_system(p)) {
         const std::string who = "anima::cg_poisson";
-        if (!(prm_.tolerance > T(0)) || !std::isfinite(prm_.tolerance))
-            throw invalid_argument(who + ": tolerance must be positive and finite, got " +
-                                   std::to_string(static_cast<double>(prm_.tolerance)));
+        check_positive(who, "tolerance", prm_.tolerance);
         if (prm_.max_iterations < 0)
             throw invalid_argument(who + ": max_iterations must not be negative, got " +
                                    std::to_string(prm_.max_iterations));

@@ -15,6 +15,7 @@
 // their neighbours.
 #pragma once
 
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 
 #include <Eigen/Core>
@@ -31,14 +32,16 @@ enum class boundary : unsigned char {
     neumann     ///< zero flux across the side; a flux enters through the right-hand side
 };
 
-inline std::string to_string(boundary b) { return b == boundary::neumann ? "neumann" : "dirichlet"; }
+template <>
+struct enum_names<boundary> {
+    static constexpr const char* what = "boundary condition";
+    static constexpr enum_entry<boundary> entries[] = {{boundary::dirichlet, "dirichlet"},
+                                                       {boundary::neumann, "neumann"}};
+};
 
-/// "dirichlet" or "neumann"; throws anima::invalid_argument otherwise.
+/// "dirichlet" or "neumann" (any case); throws anima::invalid_argument otherwise.
 inline boundary parse_boundary(std::string_view name) {
-    if (name == "dirichlet") return boundary::dirichlet;
-    if (name == "neumann") return boundary::neumann;
-    throw invalid_argument("anima::parse_boundary: '" + std::string(name) +
-                           "' is not a boundary condition: use dirichlet or neumann");
+    return parse_enum<boundary>(name, "anima::parse_boundary");
 }
 
 /// Which cells are unknown (true) and which keep fixed values (false).

@@ -12,6 +12,8 @@
 // restricted to the unknown cells).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/poisson/detail/multigrid_levels.hpp>
 #include <anima/poisson/grid.hpp>
@@ -33,13 +35,15 @@ namespace anima {
 /// How often a cycle visits the coarser levels: once (V) or twice (W).
 enum class multigrid_cycle : unsigned char { v, w };
 
-inline std::string to_string(multigrid_cycle c) { return c == multigrid_cycle::w ? "w" : "v"; }
+template <>
+struct enum_names<multigrid_cycle> {
+    static constexpr const char* what = "cycle";
+    static constexpr enum_entry<multigrid_cycle> entries[] = {{multigrid_cycle::v, "v"}, {multigrid_cycle::w, "w"}};
+};
 
 /// "v" or "w" (any case); throws anima::invalid_argument otherwise.
 inline multigrid_cycle parse_multigrid_cycle(std::string_view name) {
-    if (name == "v" || name == "V") return multigrid_cycle::v;
-    if (name == "w" || name == "W") return multigrid_cycle::w;
-    throw invalid_argument("anima::parse_multigrid_cycle: '" + std::string(name) + "' is not a cycle: use v or w");
+    return parse_enum<multigrid_cycle>(name, "anima::parse_multigrid_cycle");
 }
 
 template <class T>
@@ -73,9 +77,7 @@ public:
                                    std::to_string(prm_.pre_sweeps) + ", post_sweeps = " + std::to_string(prm_.post_sweeps));
         if (prm_.max_cycles < 1)
             throw invalid_argument(who + ": max_cycles must be at least 1, got " + std::to_string(prm_.max_cycles));
-        if (!(prm_.tolerance >= T(0)) || !std::isfinite(prm_.tolerance))
-            throw invalid_argument(who + ": tolerance must be finite and non-negative, got " +
-                                   std::to_string(static_cast<double>(prm_.tolerance)));
+        check_non_negative(who, "tolerance", prm_.tolerance);
         if (prm_.coarsest_cells < 1)
             throw invalid_argument(who + ": coarsest_cells must be at least 1, got " + std::to_string(prm_.coarsest_cells));
         build();

@@ -1,6 +1,7 @@
 // Angular velocity of a quaternion curve by finite differences.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/exp_log.hpp>
@@ -22,9 +23,7 @@ enum class angular_frame : unsigned char { parent, local };
 namespace detail {
 template <class T>
 void check_time_step(T dt, const char* who) {
-    if (!(dt > T(0)) || !std::isfinite(dt))
-        throw invalid_argument(std::string(who) + ": time step must be positive and finite, got " +
-                               std::to_string(static_cast<double>(dt)));
+    check_positive(who, "time step", dt);
 }
 }  // namespace detail
 

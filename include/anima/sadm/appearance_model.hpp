@@ -5,6 +5,7 @@
 // mask), in scan-line order.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/sadm/delaunay.hpp>
 #include <anima/sadm/landmarks.hpp>
@@ -53,9 +54,7 @@ public:
     /// `scale` pixels per unit, rotated and placed so that the shape sits one
     /// pixel inside the raster, which is returned through rows and cols.
     static landmark_set<T> place_reference(const landmark_set<T>& mean, T scale, Eigen::Index& rows, Eigen::Index& cols) {
-        if (!(scale > T(0)) || !std::isfinite(scale))
-            throw invalid_argument("anima::grey_model::place_reference: scale must be positive and finite, got " +
-                                   std::to_string(static_cast<double>(scale)));
+        check_positive("anima::grey_model::place_reference", "scale", scale);
         landmark_set<T> r = mean * scale;
         const Eigen::Matrix<T, 1, 2> shift = Eigen::Matrix<T, 1, 2>::Constant(T(1)) - r.colwise().minCoeff();
         r.rowwise() += shift;

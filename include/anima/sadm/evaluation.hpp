@@ -4,6 +4,7 @@
 // (Eq 7).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 
 #include <Eigen/Core>
@@ -55,8 +56,7 @@ typename DerivedA::Scalar psnr(const Eigen::MatrixBase<DerivedA>& image, const E
         throw invalid_argument(who + ": the mask is " + std::to_string(mask.rows()) + " x " +
                                std::to_string(mask.cols()) + ", the images " + std::to_string(image.rows()) + " x " +
                                std::to_string(image.cols()));
-    if (!(peak > T(0)) || !std::isfinite(peak))
-        throw invalid_argument(who + ": peak must be positive and finite, got " + std::to_string(static_cast<double>(peak)));
+    check_positive(who, "peak", peak);
     double sum = 0;
     long count = 0;
     for (Eigen::Index x = 0; x < image.cols(); ++x)

@@ -5,8 +5,9 @@
 // concrete regressors, make_regressor and load_regressor.
 #pragma once
 
-#include <anima/core/error.hpp>
 #include <anima/core/eigen_types.hpp>
+#include <anima/core/enum_names.hpp>
+#include <anima/core/error.hpp>
 #include <anima/sadm/detail/regress_io.hpp>
 
 #include <Eigen/Core>
@@ -25,22 +26,18 @@ namespace anima {
 /// The four mappings of the paper's Table 1.
 enum class regressor_kind : unsigned char { linear, poly2, mlp, svr };
 
-inline std::string_view to_string(regressor_kind k) {
-    switch (k) {
-        case regressor_kind::linear: return "linear";
-        case regressor_kind::poly2: return "poly2";
-        case regressor_kind::mlp: return "mlp";
-        case regressor_kind::svr: return "svr";
-    }
-    return "linear";
-}
+template <>
+struct enum_names<regressor_kind> {
+    static constexpr const char* what = "regressor";
+    static constexpr enum_entry<regressor_kind> entries[] = {{regressor_kind::linear, "linear"},
+                                                             {regressor_kind::poly2, "poly2"},
+                                                             {regressor_kind::mlp, "mlp"},
+                                                             {regressor_kind::svr, "svr"}};
+};
 
-/// "linear", "poly2", "mlp" or "svr"; throws anima::invalid_argument otherwise.
+/// "linear", "poly2", "mlp" or "svr" (any case); throws anima::invalid_argument otherwise.
 inline regressor_kind parse_regressor_kind(std::string_view name) {
-    for (regressor_kind k : {regressor_kind::linear, regressor_kind::poly2, regressor_kind::mlp, regressor_kind::svr})
-        if (name == to_string(k)) return k;
-    throw invalid_argument("anima::parse_regressor_kind: '" + std::string(name) +
-                           "' is not a regressor: use linear, poly2, mlp or svr");
+    return parse_enum<regressor_kind>(name, "anima::parse_regressor_kind");
 }
 
 /// Options of every regressor, nested by kind; make_regressor picks the

@@ -18,6 +18,8 @@
 // The motion is a frames x DOF matrix (anima::to_dof_matrix) or a clip.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/dof_view.hpp>
@@ -44,25 +46,33 @@ enum class seam_smoothing_form : unsigned char {
     image      ///< the frames x DOF matrix as one 2D grid (the paper)
 };
 
-inline std::string to_string(seam_smoothing_form f) { return f == seam_smoothing_form::image ? "2d" : "1d"; }
+template <>
+struct enum_names<seam_smoothing_form> {
+    static constexpr const char* what = "smoothing form";
+    static constexpr enum_entry<seam_smoothing_form> entries[] = {{seam_smoothing_form::temporal, "1d"},
+                                                                  {seam_smoothing_form::image, "2d"},
+                                                                  {seam_smoothing_form::temporal, "temporal"},
+                                                                  {seam_smoothing_form::image, "image"}};
+};
 
-/// "1d" / "temporal" or "2d" / "image"; throws anima::invalid_argument otherwise.
+/// "1d" (or "temporal") or "2d" (or "image") (any case); throws anima::invalid_argument otherwise.
 inline seam_smoothing_form parse_seam_smoothing_form(std::string_view name) {
-    if (name == "1d" || name == "temporal") return seam_smoothing_form::temporal;
-    if (name == "2d" || name == "image") return seam_smoothing_form::image;
-    throw invalid_argument("anima::parse_seam_smoothing_form: '" + std::string(name) + "' is not a form: use 1d or 2d");
+    return parse_enum<seam_smoothing_form>(name, "anima::parse_seam_smoothing_form");
 }
 
 /// Which Poisson solver does the work.
 enum class poisson_method : unsigned char { multigrid, dst };
 
-inline std::string to_string(poisson_method m) { return m == poisson_method::dst ? "dst" : "multigrid"; }
+template <>
+struct enum_names<poisson_method> {
+    static constexpr const char* what = "Poisson solver";
+    static constexpr enum_entry<poisson_method> entries[] = {{poisson_method::multigrid, "multigrid"},
+                                                             {poisson_method::dst, "dst"}};
+};
 
-/// "multigrid" or "dst"; throws anima::invalid_argument otherwise.
+/// "multigrid" or "dst" (any case); throws anima::invalid_argument otherwise.
 inline poisson_method parse_poisson_method(std::string_view name) {
-    if (name == "multigrid") return poisson_method::multigrid;
-    if (name == "dst") return poisson_method::dst;
-    throw invalid_argument("anima::parse_poisson_method: '" + std::string(name) + "' is not a solver: use multigrid or dst");
+    return parse_enum<poisson_method>(name, "anima::parse_poisson_method");
 }
 
 template <class T>
@@ -179,9 +189,7 @@ smoothed_motion<typename Derived::Scalar> smooth_seams(const Eigen::MatrixBase<D
     using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
     const std::string who = "anima::smooth_seams";
     if (motion.cols() < 1) throw invalid_argument(who + ": the motion has no DOF columns");
-    if (!(prm.dof_spacing > T(0)) || !std::isfinite(prm.dof_spacing))
-        throw invalid_argument(who + ": dof_spacing must be positive and finite, got " +
-                               std::to_string(static_cast<double>(prm.dof_spacing)));
+    check_positive(who, "dof_spacing", prm.dof_spacing);
     const matrix m = motion;
     const matrix d = seam_target_differences(m, seams, prm.radius);
     const Eigen::Index frames = m.rows(), dofs = m.cols(), inner = frames - 2;

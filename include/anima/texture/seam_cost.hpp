@@ -20,6 +20,7 @@
 // two joints' DOFs is not a gradient of anything.
 #pragma once
 
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/finite_difference.hpp>
 
@@ -37,21 +38,17 @@ namespace anima {
 /// How an edge's capacity follows from Eq 8 and Eq 9.
 enum class seam_capacity : unsigned char { normalized, exponential, plain };
 
-inline std::string to_string(seam_capacity c) {
-    switch (c) {
-        case seam_capacity::normalized: return "normalized";
-        case seam_capacity::exponential: return "exponential";
-        case seam_capacity::plain: return "plain";
-    }
-    return "normalized";
-}
+template <>
+struct enum_names<seam_capacity> {
+    static constexpr const char* what = "seam capacity";
+    static constexpr enum_entry<seam_capacity> entries[] = {{seam_capacity::normalized, "normalized"},
+                                                            {seam_capacity::exponential, "exponential"},
+                                                            {seam_capacity::plain, "plain"}};
+};
 
-/// "normalized", "exponential" or "plain"; throws anima::invalid_argument otherwise.
+/// "normalized", "exponential" or "plain" (any case); throws anima::invalid_argument otherwise.
 inline seam_capacity parse_seam_capacity(std::string_view name) {
-    for (seam_capacity c : {seam_capacity::normalized, seam_capacity::exponential, seam_capacity::plain})
-        if (name == to_string(c)) return c;
-    throw invalid_argument("anima::parse_seam_capacity: '" + std::string(name) +
-                           "' is not a seam capacity: use normalized, exponential or plain");
+    return parse_enum<seam_capacity>(name, "anima::parse_seam_capacity");
 }
 
 template <class T>
