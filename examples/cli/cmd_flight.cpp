@@ -29,8 +29,9 @@ extern const char* const cmu31_skeleton_bvh;
 namespace {
 
 struct flight_options {
-    std::string keys_path, example, output, plot;
+    std::string keys_path, example, clip, output, plot;
     int model = 2, iterations = 100, quadrature = 4;
+    std::size_t keys = 8;
     double body_mass = 70;
     bool json = false, progress = false;
 };
@@ -77,12 +78,22 @@ void write_plot(const std::string& path, const std::vector<double>& before, cons
 
 void run_flight(const flight_options& o) {
     check_outputs({{"--output", &o.output}, {"--plot", &o.plot}});
-    if (o.keys_path.empty() == o.example.empty())
-        throw CLI::ValidationError("flight", "give either KEYS.json or --example somersault");
+    if (!o.keys_path.empty() + !o.example.empty() + !o.clip.empty() != 1)
+        throw CLI::ValidationError("flight", "give one of KEYS.json, --example somersault or --clip CLIP.bvh");
     const anima::flight_key_set_defaults<double> defaults{o.body_mass};
-    auto in = o.example.empty() ? anima::read_flight_key_set<double>(o.keys_path, defaults)
-                                : anima::somersault_key_set<double>(
-                                      anima::parse_bvh<double>(cmu31_skeleton_bvh, "cmu31_skeleton").skeleton(), defaults);
+    std::optional<anima::clip_flight_keys<double>> from_clip;
+    if (!o.clip.empty()) {
+        anima::clip_flight_params<double> cp;
+        cp.keys = o.keys;
+        cp.body.body_mass = o.body_mass;
+        from_clip = anima::flight_keys_from_clip(load_clip(o.clip), cp);
+        from_clip->key_set.name = file_name(o.clip) + " (" + from_clip->key_set.name + ")";
+    }
+    auto in = from_clip ? from_clip->key_set
+              : o.example.empty()
+                  ? anima::read_flight_key_set<double>(o.keys_path, defaults)
+                  : anima::somersault_key_set<double>(
+                        anima::parse_bvh<double>(cmu31_skeleton_bvh, "cmu31_skeleton").skeleton(), defaults);
     in.settings.quadrature_points = o.quadrature;
     const anima::flight_problem<double> problem(in.model, in.keys, in.settings);
     anima::flight_optimization_params<double> params;
@@ -129,6 +140,10 @@ void run_flight(const flight_options& o) {
         out["iterations"] = r.iterations;
         out["status"] = std::string(anima::to_string(r.status));
         out["seconds"] = r.seconds;
+        if (from_clip) {
+            out["airborne"] = {from_clip->phase.first, from_clip->phase.last};
+            out["key_frames"] = from_clip->key_frames;
+        }
         out["objective_history"] = r.history;
         print_json(out);
         return;
@@ -159,6 +174,11 @@ void register_flight(CLI::App& app) {
     sub->add_option("KEYS", opts->keys_path, "Key set (JSON, see docs/flight.md)")->type_name("KEYS.json");
     sub->add_option("--example", opts->example, "A built-in key set instead of KEYS.json")
         ->check(CLI::IsMember({"somersault"}));
+    sub->add_option("--clip", opts->clip, "Keys from the longest airborne phase of a recorded clip instead of KEYS.json")
+        ->type_name("CLIP.bvh");
+    sub->add_option("--keys", opts->keys, "Keys placed on the airborne phase of --clip")
+        ->check(integer_in(2, 1000))
+        ->capture_default_str();
     sub->add_option("--model", opts->model, "1: key times and poses within tolerances; 2: key times only")
         ->check(CLI::IsMember({1, 2}))
         ->capture_default_str();

@@ -6,6 +6,7 @@
 
 #include <anima/flight/anthropometry.hpp>
 #include <anima/flight/body_model.hpp>
+#include <anima/flight/clip_keys.hpp>
 #include <anima/flight/cubic_spline.hpp>
 #include <anima/flight/flight_clip.hpp>
 #include <anima/flight/flight_objective.hpp>
