@@ -8,22 +8,18 @@
 
 #include <cstdio>
 #include <string>
-#include <vector>
 
 int main(int argc, char** argv) {
     const std::string dir = argc > 1 ? argv[1] : ANIMA_EXAMPLE_DATA_DIR "/face";
     try {
-        std::vector<anima::grey_image<double>> train_images, test_images;
-        std::vector<anima::landmark_set<double>> train_points, test_points;
-        for (int k = 0; k < 36; ++k) {
-            char name[32];
-            std::snprintf(name, sizeof name, "franck_%05d", 11 * k);
-            auto image = anima::read_grey_pnm<double>(dir + "/images/" + name + ".pgm");
-            auto points = anima::read_pts<double>(dir + "/points/" + name + ".pts");
-            // Every 4th frame is held out: it is synthesised from its landmarks only.
-            (k % 4 == 3 ? test_images : train_images).push_back(std::move(image));
-            (k % 4 == 3 ? test_points : train_points).push_back(std::move(points));
-        }
+        // Every 4th frame is held out: it is synthesised from its landmarks only.
+        const auto split = anima::parse_frame_split("every:4");
+        const auto train = anima::load_frame_folder<double>(dir, split, anima::frame_selection::training);
+        const auto test = anima::load_frame_folder<double>(dir, split, anima::frame_selection::test);
+        const auto& train_images = train.images;
+        const auto& train_points = train.landmarks;
+        const auto& test_images = test.images;
+        const auto& test_points = test.landmarks;
         const auto model = anima::sadm_model<double>::train(train_images, train_points);
         std::printf("trained on %zu frames: %td shape and %td grey parameters over %zu face pixels\n",
                     train_images.size(), model.shape().size(), model.grey().size(), model.grey().raster().size());
