@@ -194,12 +194,28 @@ seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) 
     return out;
 }
 
+/// Foot skate (median speed of planted feet, body heights per second) of the
+/// input and the texture. Contacts by height alone: a texture's sliding feet
+/// must count as planted, not as lifted.
+struct skate_check {
+    double input = 0, output = 0;
+};
+
+skate_check check_skate(const clip_t& c, const anima::motion_texture<double>& t, anima::signed_axis up) {
+    anima::contact_params<double> p;
+    p.up = up;
+    p.use_speed = false;
+    p.skip_rest_pose = false;
+    return {anima::foot_skate(anima::find_contacts(c, p)).median, anima::foot_skate(anima::find_contacts(t.motion, p)).median};
+}
+
 struct stage_times {
     double read = 0, write = 0, total = 0;
 };
 
 json texture_json(const texture_options& o, std::size_t first, const clip_t& c, const anima::motion_texton<double>& texton,
-                  const anima::motion_texture<double>& t, const seam_check& check, const stage_times& times) {
+                  const anima::motion_texture<double>& t, const seam_check& check, const skate_check& skate,
+                  const stage_times& times) {
     const double dt = c.frame_time();
     json seams = json::array();
     for (std::size_t col = 0; col < texton.layout.size(); ++col) {
@@ -237,6 +253,9 @@ json texture_json(const texture_options& o, std::size_t first, const clip_t& c, 
                 {"smoothing", o.smoothing},
                 {"seams", seams},
                 {"overlap_passes", spans},
+                {"foot_skate", {{"input", skate.input},
+                                {"output", skate.output},
+                                {"ratio", skate.input > 0 ? json(skate.output / skate.input) : json(nullptr)}}},
                 {"seam_check", {{"joint_speed_ratio", check.worst_joint},
                                 {"worst_joint", check.worst_joint_name},
                                 {"root_speed_ratio", check.worst_root},
@@ -316,7 +335,8 @@ void run_texture(const texture_options& o) {
 
     const double dt = c.frame_time();
     if (o.json) {
-        print_json(texture_json(o, first, c, texton, t, check, {read_seconds, write_seconds, seconds_since(start)}));
+        print_json(texture_json(o, first, c, texton, t, check, check_skate(c, t, up),
+                                {read_seconds, write_seconds, seconds_since(start)}));
         return;
     }
     std::cout << "texture of " << file_name(o.input) << " frames " << first << ".." << whole.frames() - 1 << " ("
