@@ -119,14 +119,24 @@ void run_playback(const playback_options& o) {
 
     anima::bvh_write_options write;
     write.decimals = std::max(6, m.decimals);
-    if (!o.output.empty()) {
+    if (!o.output.empty() || o.json) {
         anima::resequence_params rp;
         rp.root = anima::parse_root_path(o.root);
         rp.up = m.up;
         const clip_t result = anima::resequence(m.clip, stream, rp);
-        write_text_file(o.output, anima::format_bvh(result, write));
-        out["output"] = o.output;
-        out["decimals"] = write.decimals;
+        if (!o.output.empty()) {
+            write_text_file(o.output, anima::format_bvh(result, write));
+            out["output"] = o.output;
+            out["decimals"] = write.decimals;
+        }
+        // Planted feet by height alone, so that sliding ones count.
+        anima::contact_params<double> cp;
+        cp.up = m.up;
+        cp.use_speed = false;
+        cp.skip_rest_pose = false;
+        const double in = anima::foot_skate(anima::find_contacts(m.clip, cp)).median;
+        const double played = anima::foot_skate(anima::find_contacts(result, cp)).median;
+        out["foot_skate"] = {{"input", in}, {"output", played}, {"ratio", in > 0 ? json(played / in) : json(nullptr)}};
     }
 
     if (o.json) {
