@@ -202,11 +202,10 @@ std::vector<std::size_t> find_feet(const skeleton<T>& sk, signed_axis up) {
     return feet;
 }
 
-/// Contacts and airborne phases of a clip. Throws anima::invalid_argument for
-/// a foot name the skeleton does not have, a skeleton without feet (name
-/// them in params.feet), a figure of zero height or bad thresholds.
+namespace detail {
+
 template <class T>
-contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params = {}) {
+void check_contact_params(const contact_params<T>& params) {
     const char* who = "anima::find_contacts";
     check_positive(who, "height_on", params.height_on);
     check_argument(params.height_off >= params.height_on, who, "height_off", "at least height_on", params.height_off);
@@ -218,109 +217,144 @@ contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params =
     check_non_negative(who, "min_gap_seconds", params.min_gap_seconds);
     check_in_range(who, "standing_quantile", params.standing_quantile, T(0), T(1));
     check_non_negative(who, "standing_window_seconds", params.standing_window_seconds);
+}
+
+/// One foot's points (its joints and their End Sites) over frames
+/// first..frames-1: rise above the standing height (body heights) and
+/// horizontal speed (body heights per second), [frame * points + point].
+template <class T>
+struct foot_points {
+    std::size_t points = 0;
+    std::vector<T> rise, speed;
+};
+
+template <class T>
+std::vector<foot_points<T>> measure_feet(const clip<T>& c, const std::vector<std::size_t>& feet, std::size_t first,
+                                         const contact_set<T>& out, const contact_params<T>& params) {
+    using vector3 = Eigen::Matrix<T, 3, 1>;
+    const auto& sk = c.skeleton();
+    const std::size_t n = c.frames() - first;
+    const auto axis = static_cast<Eigen::Index>(out.up.axis);
+    const T sign = out.up.sign < 0 ? T(-1) : T(1), h = out.body_height;
+    const auto window = static_cast<std::size_t>(std::ceil(params.standing_window_seconds / c.frame_time()));
+    // Speeds over +-1/60 s: a central difference over one frame at 120 Hz
+    // would turn millimetre marker noise into centimetres per second.
+    const auto half = std::max<std::size_t>(
+        1, static_cast<std::size_t>(std::lround(1.0 / (60.0 * static_cast<double>(c.frame_time())))));
+    std::vector<std::vector<std::pair<std::size_t, bool>>> points(feet.size());  // (joint, its End Site?)
+    for (std::size_t i = 0; i < feet.size(); ++i)
+        for (const std::size_t j : subtree(sk, feet[i])) {
+            points[i].emplace_back(j, false);
+            if (sk[j].end_site) points[i].emplace_back(j, true);
+        }
+    std::vector<std::vector<vector3>> where(feet.size());  // [foot][frame * points + p]
+    global_pose<T> pose;
+    for (std::size_t f = first; f < c.frames(); ++f) {
+        forward_kinematics(c, f, pose);
+        for (std::size_t i = 0; i < feet.size(); ++i)
+            for (const auto& [j, tip] : points[i])
+                where[i].push_back(tip ? vector3(pose.positions[j] + pose.orientations[j] * *sk[j].end_site)
+                                       : pose.positions[j]);
+    }
+    std::vector<foot_points<T>> out_points(feet.size());
+    for (std::size_t i = 0; i < feet.size(); ++i) {
+        const std::size_t np = points[i].size();
+        const auto at = [&](std::size_t f, std::size_t p) -> const vector3& { return where[i][f * np + p]; };
+        foot_points<T>& fp = out_points[i];
+        fp.points = np;
+        fp.rise.resize(n * np);
+        fp.speed.resize(n * np);
+        for (std::size_t p = 0; p < np; ++p) {
+            std::vector<T> heights(n);
+            for (std::size_t f = 0; f < n; ++f) heights[f] = sign * at(f, p)[axis];
+            const auto standing = windowed_quantile(heights, window, params.standing_quantile, T(0.05) * h);
+            for (std::size_t f = 0; f < n; ++f) {
+                fp.rise[f * np + p] = (heights[f] - standing[f]) / h;
+                const std::size_t a = f >= half ? f - half : 0, b = std::min(n - 1, f + half);
+                vector3 d = at(b, p) - at(a, p);
+                d[axis] = T(0);
+                fp.speed[f * np + p] = b > a ? d.norm() / (h * static_cast<T>(b - a) * c.frame_time()) : T(0);
+            }
+        }
+    }
+    return out_points;
+}
+
+/// The hysteresis over one foot's points: in contact from a frame where a
+/// point is below the entering thresholds until no point is below the
+/// leaving ones. Fills the foot's rise and speed from frame `first` on.
+template <class T>
+std::vector<bool> follow_foot(const foot_points<T>& fp, std::size_t first, const contact_params<T>& params,
+                              T speed_on, T speed_off, foot_contact<T>& foot) {
+    const std::size_t np = fp.points, n = np ? fp.rise.size() / np : 0;
+    std::vector<bool> in_contact(n, false);
+    bool on = false;
+    for (std::size_t f = 0; f < n; ++f) {
+        bool enter = false, hold = false;
+        std::size_t lowest = 0, planted = np;  // the lowest point; the stillest one near the ground
+        for (std::size_t p = 0; p < np; ++p) {
+            const T r = fp.rise[f * np + p], v = fp.speed[f * np + p];
+            enter = enter || (r < params.height_on && (!params.use_speed || v < speed_on));
+            hold = hold || (r < params.height_off && (!params.use_speed || v < speed_off));
+            if (r < fp.rise[f * np + lowest]) lowest = p;
+            if (r < params.height_off && (planted == np || v < fp.speed[f * np + planted])) planted = p;
+        }
+        on = on ? hold : enter;
+        in_contact[f] = on;
+        foot.rise[first + f] = fp.rise[f * np + lowest];
+        foot.speed[first + f] = fp.speed[f * np + (planted < np ? planted : lowest)];
+    }
+    return in_contact;
+}
+
+}  // namespace detail
+
+/// Contacts and airborne phases of a clip. Throws anima::invalid_argument for
+/// a foot name the skeleton does not have, a skeleton without feet (name
+/// them in params.feet), a figure of zero height or bad thresholds.
+template <class T>
+contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params = {}) {
+    const std::string who = "anima::find_contacts";
+    detail::check_contact_params(params);
     const auto& sk = c.skeleton();
     contact_set<T> out;
     out.up = params.up ? *params.up : guess_up_axis(sk).up;
     out.body_height = figure_height(sk, out.up);
     out.frame_time = c.frame_time();
-    if (!(out.body_height > T(0))) throw invalid_argument(std::string(who) + ": the figure has no height along its up axis");
+    if (!(out.body_height > T(0))) throw invalid_argument(who + ": the figure has no height along its up axis");
     std::vector<std::size_t> feet;
     for (const auto& name : params.feet) {
         const auto j = sk.find(name);
-        if (!j) throw invalid_argument(std::string(who) + ": the skeleton has no joint '" + name + "'");
+        if (!j) throw invalid_argument(who + ": the skeleton has no joint '" + name + "'");
         feet.push_back(*j);
     }
     if (params.feet.empty()) feet = find_feet(sk, out.up);
     if (feet.empty())
-        throw invalid_argument(std::string(who) + ": no foot joints found by name or as lowest leaves; name them in "
-                                                  "contact_params::feet");
+        throw invalid_argument(who + ": no foot joints found by name or as lowest leaves; name them in "
+                                     "contact_params::feet");
 
     const std::size_t frames = c.frames();
     const std::size_t first = params.skip_rest_pose && frames > 2 ? rest_pose_lead_in(c) : 0;
     out.lead_in = first;
     const std::size_t n = frames - first;  // the frames looked at: first..frames-1
-    const auto axis = static_cast<Eigen::Index>(out.up.axis);
-    const T sign = out.up.sign < 0 ? T(-1) : T(1), h = out.body_height;
-    const auto frames_of = [&](T seconds) { return static_cast<std::size_t>(std::ceil(seconds / c.frame_time() - T(1e-6))); };
-    // Speeds over +-1/60 s: a central difference over one frame at 120 Hz
-    // would turn millimetre marker noise into centimetres per second.
-    const std::size_t window = frames_of(params.standing_window_seconds);
-    const std::size_t half = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1.0 / (60.0 * static_cast<double>(c.frame_time())))));
-
-    // Every foot's points (joints and End Sites) in every frame.
-    struct point {
-        std::size_t joint;
-        bool end_site;
+    const auto frames_of = [&](T seconds) {
+        return static_cast<std::size_t>(std::ceil(seconds / c.frame_time() - T(1e-6)));
     };
-    std::vector<std::vector<point>> points(feet.size());
-    for (std::size_t i = 0; i < feet.size(); ++i)
-        for (const std::size_t j : detail::subtree(sk, feet[i])) {
-            points[i].push_back({j, false});
-            if (sk[j].end_site) points[i].push_back({j, true});
-        }
-    std::vector<std::vector<Eigen::Matrix<T, 3, 1>>> where(feet.size());  // [foot][(frame - first) * points + p]
-    global_pose<T> pose;
-    for (std::size_t f = first; f < frames; ++f) {
-        forward_kinematics(c, f, pose);
-        for (std::size_t i = 0; i < feet.size(); ++i)
-            for (const auto& p : points[i])
-                where[i].push_back(p.end_site ? Eigen::Matrix<T, 3, 1>(pose.positions[p.joint] +
-                                                                       pose.orientations[p.joint] * *sk[p.joint].end_site)
-                                              : pose.positions[p.joint]);
-    }
-
-    // Rise above the standing height and horizontal speed of every point.
-    std::vector<std::vector<T>> rise(feet.size()), speed(feet.size());  // [foot][frame * points + p]
+    const auto measured = detail::measure_feet(c, feet, first, out, params);
     std::vector<T> all_speeds;
-    for (std::size_t i = 0; i < feet.size(); ++i) {
-        const std::size_t np = points[i].size();
-        const auto at = [&](std::size_t f, std::size_t p) -> const Eigen::Matrix<T, 3, 1>& { return where[i][f * np + p]; };
-        rise[i].resize(n * np);
-        speed[i].resize(n * np);
-        for (std::size_t p = 0; p < np; ++p) {
-            std::vector<T> heights(n);
-            for (std::size_t f = 0; f < n; ++f) heights[f] = sign * at(f, p)[axis];
-            const auto standing = detail::windowed_quantile(heights, window, params.standing_quantile, T(0.05) * h);
-            for (std::size_t f = 0; f < n; ++f) {
-                rise[i][f * np + p] = (heights[f] - standing[f]) / h;
-                const std::size_t a = f >= half ? f - half : 0, b = std::min(n - 1, f + half);
-                Eigen::Matrix<T, 3, 1> d = at(b, p) - at(a, p);
-                d[axis] = T(0);
-                speed[i][f * np + p] = b > a ? d.norm() / (h * static_cast<T>(b - a) * c.frame_time()) : T(0);
-            }
-        }
-        all_speeds.insert(all_speeds.end(), speed[i].begin(), speed[i].end());
-    }
-    const T speed_on = std::min(params.speed_on, std::max(params.speed_floor,
-                                                          params.relative_speed * detail::quantile(all_speeds, T(0.95))));
-    const T speed_off = speed_on * (params.speed_off / params.speed_on);
-    out.speed_on = speed_on;
+    for (const auto& fp : measured) all_speeds.insert(all_speeds.end(), fp.speed.begin(), fp.speed.end());
+    out.speed_on = std::min(params.speed_on, std::max(params.speed_floor, params.relative_speed *
+                                                                              detail::quantile(all_speeds, T(0.95))));
+    const T speed_off = out.speed_on * (params.speed_off / params.speed_on);
 
     std::vector<bool> airborne(n, true);
     for (std::size_t i = 0; i < feet.size(); ++i) {
-        const std::size_t np = points[i].size();
         foot_contact<T> foot;
         foot.name = sk[feet[i]].name;
         foot.joint = feet[i];
-        std::vector<bool> in_contact(n, false);
         foot.rise.assign(frames, T(0));
         foot.speed.assign(frames, T(0));
-        bool on = false;
-        for (std::size_t f = 0; f < n; ++f) {
-            bool enter = false, hold = false;
-            std::size_t lowest = 0, planted = np;  // the lowest point; the stillest one near the ground
-            for (std::size_t p = 0; p < np; ++p) {
-                const T r = rise[i][f * np + p], v = speed[i][f * np + p];
-                enter = enter || (r < params.height_on && (!params.use_speed || v < speed_on));
-                hold = hold || (r < params.height_off && (!params.use_speed || v < speed_off));
-                if (r < rise[i][f * np + lowest]) lowest = p;
-                if (r < params.height_off && (planted == np || v < speed[i][f * np + planted])) planted = p;
-            }
-            on = on ? hold : enter;
-            in_contact[f] = on;
-            foot.rise[first + f] = rise[i][f * np + lowest];
-            foot.speed[first + f] = speed[i][f * np + (planted < np ? planted : lowest)];
-        }
+        std::vector<bool> in_contact = detail::follow_foot(measured[i], first, params, out.speed_on, speed_off, foot);
         detail::clean_runs(in_contact, frames_of(params.min_contact_seconds), frames_of(params.min_gap_seconds));
         for (std::size_t f = 0; f < n; ++f)
             if (in_contact[f]) airborne[f] = false;
