@@ -1,5 +1,7 @@
 // Time to build one transition on the real 31-joint skeleton (CMU 02_01 walk,
-// from frame 120 to frame 250 of the same clip, a change of gait phase):
+// from frame 120 to frame 250 of the same clip, a change of gait phase), and
+// with classes given on the bundled 43-joint run (Daz layout, with fingers;
+// from frame 70 to frame 30 of the same clip):
 //
 //   BM_transition<variable_timing>  anima::make_transition: classification of
 //                                   both clips, timing, per-joint lerp/slerp/squad,
@@ -7,6 +9,12 @@
 //   BM_transition<variable_timing, classified>
 //                                   the same with both clips classified beforehand
 //                                   (transition_params::class_a / class_b)
+//   BM_transition<variable_timing, classified, into>
+//                                   the same through make_transition_into, the
+//                                   per-call form for a game loop: output and
+//                                   workspace kept from call to call, nothing
+//                                   allocated, B not copied (placement only)
+//   BM_transition<..., 43 joints>   the two rows above on the run
 //   BM_transition<crossfade>        anima::crossfade over 0.3 s, the fixed-length
 //                                   blend most engines use
 //   BM_transition<inertialize>      anima::inertialize with a 0.1 s half-life
@@ -32,6 +40,11 @@ const anima::clip<double>& walk() {
     return c;
 }
 
+const anima::clip<double>& run() {
+    static const anima::clip<double> c = anima::read_bvh(ANIMA_BENCH_DATA_DIR "/run_cmu_09_01.bvh");
+    return c;
+}
+
 constexpr std::size_t trigger = 120, start = 250;
 
 void variable_timing(benchmark::State& state) {
@@ -42,15 +55,34 @@ void variable_timing(benchmark::State& state) {
     }
 }
 
-void variable_timing_preclassified(benchmark::State& state) {
-    const auto& c = walk();
+anima::transition_params classified(const anima::clip<double>& c) {
     anima::transition_params params;
     params.class_a = params.class_b = anima::classify_motion(c, anima::joint_roles(c.skeleton()));
+    return params;
+}
+
+void make_classified(benchmark::State& state, const anima::clip<double>& c, std::size_t at, std::size_t to) {
+    const anima::transition_params params = classified(c);
     for (auto _ : state) {
-        auto t = anima::make_transition(c, trigger, c, start, params);
+        auto t = anima::make_transition(c, at, c, to, params);
         benchmark::DoNotOptimize(t.frames.rotations().data());
     }
 }
+
+void into_classified(benchmark::State& state, const anima::clip<double>& c, std::size_t at, std::size_t to) {
+    const anima::transition_params params = classified(c);
+    anima::transition_frames<double> out;
+    anima::transition_workspace<double> workspace;
+    for (auto _ : state) {
+        anima::make_transition_into(c, at, c, to, params, out, workspace);
+        benchmark::DoNotOptimize(out.frames.rotations().data());
+    }
+}
+
+void variable_timing_preclassified(benchmark::State& state) { make_classified(state, walk(), trigger, start); }
+void variable_timing_into(benchmark::State& state) { into_classified(state, walk(), trigger, start); }
+void variable_timing_preclassified_43(benchmark::State& state) { make_classified(state, run(), 70, 30); }
+void variable_timing_into_43(benchmark::State& state) { into_classified(state, run(), 70, 30); }
 
 void crossfade(benchmark::State& state) {
     const auto& c = walk();
@@ -82,6 +114,15 @@ void timing_only(benchmark::State& state) {
 
 BENCHMARK(variable_timing)->Name("BM_transition<variable_timing>")->Unit(benchmark::kMicrosecond);
 BENCHMARK(variable_timing_preclassified)->Name("BM_transition<variable_timing, classified>")->Unit(benchmark::kMicrosecond);
+BENCHMARK(variable_timing_into)
+    ->Name("BM_transition<variable_timing, classified, into>")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(variable_timing_preclassified_43)
+    ->Name("BM_transition<variable_timing, classified, 43 joints>")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(variable_timing_into_43)
+    ->Name("BM_transition<variable_timing, classified, into, 43 joints>")
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(crossfade)->Name("BM_transition<crossfade>")->Unit(benchmark::kMicrosecond);
 BENCHMARK(inertialize)->Name("BM_transition<inertialize>")->Unit(benchmark::kMicrosecond);
 BENCHMARK(timing_only)->Name("BM_transition<timing_only>")->Unit(benchmark::kMicrosecond);

@@ -2,12 +2,43 @@
 // interpolation, root path, placement of the next clip) and the baselines it
 // is compared with, on the bundled CMU clips, the shared ones when present,
 // and synthetic clips built from them.
+
+// Heap allocations are counted around a call: operator new is replaced below,
+// and Eigen, which allocates with malloc, reports each allocation through
+// eigen_assert while EIGEN_RUNTIME_NO_MALLOC forbids them. So this comes
+// before any header that includes Eigen.
+#include <cstdio>
+#include <cstdlib>
+
+namespace heap_count {
+inline bool counting = false;
+inline long allocations = 0;
+// Whether an eigen_assert passes: a refused Eigen allocation while counting is counted instead.
+inline bool eigen_check(bool ok) {
+    if (!ok && counting) ++allocations;
+    return ok || counting;
+}
+// Any other failed eigen_assert stops the test, as Eigen's own would (not under NDEBUG).
+inline void eigen_failed([[maybe_unused]] const char* what, [[maybe_unused]] const char* file,
+                         [[maybe_unused]] int line) {
+#ifndef NDEBUG
+    std::fprintf(stderr, "%s:%d: Eigen assertion failed: %s\n", file, line, what);
+    std::abort();
+#endif
+}
+}  // namespace heap_count
+#define EIGEN_RUNTIME_NO_MALLOC
+#define eigen_assert(x)                                                     \
+    (heap_count::eigen_check(static_cast<bool>(x)) ? static_cast<void>(0) \
+                                                   : heap_count::eigen_failed(#x, __FILE__, __LINE__))
+
 #include <anima/bvh/reader.hpp>
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/reorient.hpp>
 #include <anima/motion/resample.hpp>
+#include <anima/rotation/angular_velocity.hpp>
 #include <anima/rotation/exp_log.hpp>
 #include <anima/rotation/lerp.hpp>
 #include <anima/rotation/quaternion.hpp>
@@ -24,13 +55,33 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <new>
 #include <optional>
 #include <random>
 #include <string>
 #include <vector>
+
+// Not inlined: GCC would otherwise see free() on the result of operator new and warn.
+#if defined(__GNUC__)
+#define HEAP_COUNT_NOINLINE __attribute__((noinline))
+#else
+#define HEAP_COUNT_NOINLINE
+#endif
+HEAP_COUNT_NOINLINE void* operator new(std::size_t size) {
+    if (heap_count::counting) ++heap_count::allocations;
+    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+    throw std::bad_alloc();
+}
+HEAP_COUNT_NOINLINE void* operator new[](std::size_t size) { return operator new(size); }
+HEAP_COUNT_NOINLINE void operator delete(void* p) noexcept { std::free(p); }
+HEAP_COUNT_NOINLINE void operator delete[](void* p) noexcept { std::free(p); }
+HEAP_COUNT_NOINLINE void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+HEAP_COUNT_NOINLINE void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -1050,4 +1101,366 @@ TEST_CASE("measure_transition: the variable-timing transition is smoother than a
     };
     measure(run<double>(), 60, run<double>(), 20);
     if (const clipd* walk = shared_clip("walk_cmu_02_01.bvh")) measure(run<double>(), 100, *walk, 100);
+}
+
+namespace {
+
+template <class T>
+bool same_bits(const T& a, const T& b) {
+    return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+template <class V>
+bool same_bits(const std::vector<V>& a, const std::vector<V>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(V)) == 0);
+}
+
+template <class T>
+bool same_clip(const anima::clip<T>& a, const anima::clip<T>& b) {
+    return a.frames() == b.frames() && same_bits(a.frame_time(), b.frame_time()) && a.skeleton() == b.skeleton() &&
+           same_bits(a.rotations(), b.rotations()) && same_bits(a.translations(), b.translations());
+}
+
+// Every field of a make_transition_into result, bit for bit, against make_transition's.
+template <class T>
+void check_same_transition(const anima::transition<T>& expected, const anima::transition_frames<T>& got) {
+    CHECK(same_clip(got.frames, expected.frames));
+    CHECK(same_bits(got.duration, expected.duration));
+    CHECK(same_bits(got.timing.duration, expected.timing.duration));
+    CHECK(same_bits(got.timing.unclamped, expected.timing.unclamped));
+    CHECK(got.timing.limiting_joint == expected.timing.limiting_joint);
+    REQUIRE(got.timing.joints.size() == expected.timing.joints.size());
+    bool timing = true;
+    for (std::size_t j = 0; j < got.timing.joints.size(); ++j) {
+        const auto &g = got.timing.joints[j], &e = expected.timing.joints[j];
+        timing = timing && g.joint == e.joint && g.role == e.role && g.key == e.key && same_bits(g.angle, e.angle) &&
+                 same_bits(g.speed_a, e.speed_a) && same_bits(g.speed_b, e.speed_b) &&
+                 same_bits(g.acceleration_a, e.acceleration_a) && same_bits(g.acceleration_b, e.acceleration_b) &&
+                 same_bits(g.time, e.time);
+    }
+    CHECK(timing);
+    CHECK(got.methods == expected.methods);
+    CHECK(got.parameter == expected.parameter);
+    const auto same_class = [](const anima::motion_classification& g, const anima::motion_classification& e) {
+        return g.type == e.type && g.up == e.up && same_bits(g.metres_per_unit, e.metres_per_unit) &&
+               same_bits(g.foot_range, e.foot_range) && same_bits(g.hip_rise, e.hip_rise);
+    };
+    CHECK(same_class(got.class_a, expected.class_a));
+    CHECK(same_class(got.class_b, expected.class_b));
+    CHECK(got.flight == expected.flight);
+    CHECK(same_bits(got.root_at_trigger.velocity, expected.root_at_trigger.velocity));
+    CHECK(same_bits(got.root_at_trigger.acceleration, expected.root_at_trigger.acceleration));
+    CHECK(got.placement.first == expected.placement.first);
+    CHECK(same_bits(got.placement.turn.coeffs(), expected.placement.turn.coeffs()));
+    CHECK(same_bits(got.placement.pivot, expected.placement.pivot));
+    CHECK(same_bits(got.placement.start, expected.placement.start));
+}
+
+// The placed B of make_transition is B played through the placement: the
+// root turned and moved, frame by frame, bit for bit; the rest as it is.
+template <class T>
+bool placement_places(const anima::clip_placement<T>& where, const anima::clip<T>& b, const anima::clip<T>& placed) {
+    if (placed.frames() != b.frames() - where.first) return false;
+    const bool translated = b.skeleton().translation_slot(0) >= 0;
+    for (std::size_t f = 0; f < placed.frames(); ++f)
+        for (std::size_t j = 0; j < b.joints(); ++j) {
+            const auto q = j == 0 ? where.rotation(b.rotation(where.first + f, 0)) : b.rotation(where.first + f, j);
+            if (!same_bits(placed.rotation(f, j).coeffs(), q.coeffs())) return false;
+            if (b.skeleton().translation_slot(j) < 0) continue;
+            const auto p = j == 0 && translated ? where.position(b.root_position(where.first + f))
+                                                : b.translation(where.first + f, j);
+            if (!same_bits(placed.translation(f, j), p)) return false;
+        }
+    return true;
+}
+
+// A transition to run: clips, frames, parameters.
+template <class T>
+struct transition_case {
+    std::string name;
+    const anima::clip<T>* a;
+    std::size_t trigger;
+    const anima::clip<T>* b;
+    std::size_t b_start;
+    anima::transition_params params;
+};
+
+// The singular and ordinary transitions the tests above cover, on the run:
+// different lengths, so that a reused output grows and shrinks. Classes are
+// given (classifying at -O0 is slow) except where the classification is
+// part of the case.
+template <class T>
+std::vector<transition_case<T>> transition_cases(const anima::clip<T>& r, const anima::clip<T>& one_frame,
+                                                 const anima::clip<T>& spine_turned) {
+    const auto roles = anima::joint_roles(r.skeleton());
+    const auto classes = [&](anima::transition_params p, const anima::clip<T>& a, const anima::clip<T>& b) {
+        p.class_a = anima::classify_motion(a, roles);
+        p.class_b = &b == &a ? p.class_a : anima::classify_motion(b, roles);
+        return p;
+    };
+    const anima::transition_params given = classes({}, r, r);
+    std::vector<transition_case<T>> cases;
+    const auto add = [&](std::string name, const anima::clip<T>& a, std::size_t at, const anima::clip<T>& b,
+                         std::size_t to, anima::transition_params p) {
+        cases.push_back({std::move(name), &a, at, &b, to, std::move(p)});
+    };
+    add("run 60 -> 20, classified in the call", r, 60, r, 20, {});
+    add("run 80 -> 90", r, 80, r, 90, given);
+    add("run 40 -> 120", r, 40, r, 120, given);
+    for (double min_duration : {0.1, 0.05, 0.003}) {  // the last: no in-between frame
+        anima::transition_params p = given;
+        p.timing.min_duration = min_duration;
+        add("identical poses, min_duration " + std::to_string(min_duration), r, 60, r, 60, p);
+    }
+    add("last frame to last frame (one frame of B)", r, r.frames() - 1, r, r.frames() - 1, given);
+    add("first frame to first frame", r, 0, r, 0, given);
+    add("one-frame clips", one_frame, 0, one_frame, 0, classes({}, one_frame, one_frame));
+    add("a joint turned 140 degrees (squad)", r, 60, spine_turned, 20, classes({}, r, spine_turned));
+    anima::transition_params p;
+    p.classification.flight_hip_rise = 0.05;
+    p.gravity_factor = 0.25;
+    add("flight, classified in the call", r, 60, r, 20, p);
+    p = given;
+    p.methods.assign(r.joints(), interpolation::squad);
+    add("all squad", r, 60, r, 20, p);
+    p.methods.assign(r.joints(), interpolation::lerp);
+    p.parameter = anima::easing::linear;
+    add("all lerp, linear", r, 60, r, 20, p);
+    p = given;
+    p.roles.assign(r.joints(), joint_role::leg);
+    p.timing.model = anima::timing_model::constant_acceleration;
+    p.timing.speed_window = 0;
+    p.timing.max_duration = 10;
+    add("all legs, constant acceleration, one-step speed window", r, 60, r, 20, p);
+    p = given;
+    p.timing.min_duration = p.timing.max_duration = 1.2;
+    p.root_window = 0;
+    add("1.2 s, no root window", r, 50, r, 30, p);
+    return cases;
+}
+
+template <class T>
+anima::clip<T> with_turned_joint(const anima::clip<T>& c, std::size_t j, const Eigen::Quaternion<T>& turn) {
+    anima::clip<T> out = c;
+    for (std::size_t f = 0; f < c.frames(); ++f) out.set_rotation(f, j, c.rotation(f, j) * turn);
+    return out;
+}
+
+template <class T>
+void check_into_matches(const anima::clip<T>& r) {
+    const anima::clip<T> one_frame = r.slice(30, 31);
+    const Eigen::Matrix<T, 3, 1> axis = Eigen::Matrix<T, 3, 1>(T(0.3), 1, T(-0.2)).normalized();
+    const Eigen::Quaternion<T> turn(Eigen::AngleAxis<T>(T(140 * pi / 180), axis));
+    const anima::clip<T> spine_turned = with_turned_joint(r, r.skeleton().index_of("abdomen"), turn);
+    const auto cases = transition_cases(r, one_frame, spine_turned);
+    // One output and workspace for all cases, twice over (reused storage,
+    // longer and shorter transitions), and a fresh pair for each.
+    anima::transition_frames<T> out;
+    anima::transition_workspace<T> ws;
+    std::vector<anima::transition<T>> expected;
+    for (const auto& c : cases) expected.push_back(anima::make_transition(*c.a, c.trigger, *c.b, c.b_start, c.params));
+    for (int round = 0; round < 2; ++round)
+        for (std::size_t i = 0; i < cases.size(); ++i) {
+            const auto& c = cases[i];
+            CAPTURE(c.name);
+            CAPTURE(round);
+            anima::make_transition_into(*c.a, c.trigger, *c.b, c.b_start, c.params, out, ws);
+            check_same_transition(expected[i], out);
+            if (round > 0) continue;
+            anima::transition_frames<T> fresh;
+            anima::transition_workspace<T> fresh_ws;
+            anima::make_transition_into(*c.a, c.trigger, *c.b, c.b_start, c.params, fresh, fresh_ws);
+            check_same_transition(expected[i], fresh);
+            CHECK(placement_places(expected[i].placement, *c.b, expected[i].placed_b));
+        }
+}
+
+}  // namespace
+
+TEST_CASE("make_transition_into: make_transition's results bit for bit, in double and float") {
+    check_into_matches(run<double>());
+    check_into_matches(run<float>());
+    // The 31-joint walk of the benchmark, into the output the run used: another skeleton.
+    anima::transition_params p;
+    p.class_a = p.class_b = anima::classify_motion(walk31(), anima::joint_roles(walk31().skeleton()));
+    anima::transition_frames<double> out;
+    anima::transition_workspace<double> ws;
+    anima::make_transition_into(run<double>(), 60, run<double>(), 20, {}, out, ws);
+    anima::make_transition_into(walk31(), 120, walk31(), 250, p, out, ws);
+    check_same_transition(anima::make_transition(walk31(), 120, walk31(), 250, p), out);
+    CHECK(out.frames.skeleton() == walk31().skeleton());
+}
+
+namespace {
+
+// Heap allocations (operator new and Eigen's) made by f.
+template <class F>
+long allocations_in(F&& f) {
+    heap_count::allocations = 0;
+    heap_count::counting = true;
+    Eigen::internal::set_is_malloc_allowed(false);
+    f();
+    Eigen::internal::set_is_malloc_allowed(true);
+    heap_count::counting = false;
+    return heap_count::allocations;
+}
+
+template <class T>
+void check_no_allocation(const anima::clip<T>& r) {
+    // Classes given, as a game would pass them: classifying a clip allocates.
+    const auto roles = anima::joint_roles(r.skeleton());
+    anima::transition_params given;
+    given.class_a = given.class_b = anima::classify_motion(r, roles);
+    anima::transition_params with_roles = given;
+    with_roles.roles = roles;
+    const std::pair<std::size_t, std::size_t> frames[] = {{60, 20}, {80, 90}, {40, 120}, {60, 60}, {0, 0}};
+    anima::transition_frames<T> out;
+    anima::transition_workspace<T> ws;
+    // The first calls size the output and the workspace...
+    for (const auto* p : {&given, &with_roles})
+        for (auto [at, to] : frames) anima::make_transition_into(r, at, r, to, *p, out, ws);
+    // ... after which no call allocates, whatever its frames and length.
+    for (const auto* p : {&given, &with_roles})
+        for (const auto& f : frames) {
+            CAPTURE(f.first);
+            CAPTURE(f.second);
+            CHECK(allocations_in([&] { anima::make_transition_into(r, f.first, r, f.second, *p, out, ws); }) == 0);
+        }
+    // The counter does count: make_transition allocates its result.
+    CHECK(allocations_in([&] { anima::make_transition(r, 60, r, 20, given); }) > 0);
+    // The same call again: nothing, and the same result as make_transition's.
+    anima::make_transition_into(r, 60, r, 20, given, out, ws);
+    CHECK(allocations_in([&] { anima::make_transition_into(r, 60, r, 20, given, out, ws); }) == 0);
+    check_same_transition(anima::make_transition(r, 60, r, 20, given), out);
+}
+
+}  // namespace
+
+TEST_CASE("make_transition_into allocates nothing once it has seen the skeleton and the length") {
+    check_no_allocation(run<double>());
+    check_no_allocation(run<float>());
+    // The counter sees Eigen's allocations too.
+    CHECK(allocations_in([] { Eigen::MatrixXd m(40, 40); }) > 0);
+}
+
+TEST_CASE("make_transition_into: errors as make_transition's; B at another frame time is refused") {
+    const auto& r = run<double>();
+    anima::transition_frames<double> out;
+    anima::transition_workspace<double> ws;
+    const auto into = [&](const clipd& a, std::size_t at, const clipd& b, std::size_t to,
+                          const anima::transition_params& p = {}) {
+        anima::make_transition_into(a, at, b, to, p, out, ws);
+    };
+    CHECK(thrown_message([&] { into(r, 60, walk31(), 10); }).find("'hip'") != std::string::npos);
+    CHECK_THROWS_AS(into(r, r.frames(), r, 10), anima::invalid_argument);
+    CHECK_THROWS_AS(into(r, 60, r, r.frames()), anima::invalid_argument);
+    anima::transition_params p;
+    p.roles.assign(5, joint_role::leg);
+    CHECK_THROWS_AS(into(r, 60, r, 20, p), anima::invalid_argument);
+    p = {};
+    p.timing.min_speed = 0;
+    CHECK_THROWS_AS(into(r, 60, r, 20, p), anima::invalid_argument);
+    const clipd b60 = anima::resample(r, 1.0 / 60);
+    const std::string m = thrown_message([&] { into(r, 60, b60, 10); });
+    CHECK(m.find("make_transition_into") != std::string::npos);
+    CHECK(m.find("resample") != std::string::npos);
+    // Resampled beforehand, B gives make_transition's transition, which resamples it itself.
+    const clipd b120 = anima::resample(b60, r.frame_time());
+    into(r, 60, b120, anima::detail::resampled_frame(std::size_t{10}, b60.frame_time(), b120));
+    const auto t = anima::make_transition(r, 60, b60, 10);
+    check_same_transition(t, out);
+}
+
+namespace {
+
+template <class T>
+void check_blend_many() {
+    using quat = Eigen::Quaternion<T>;
+    std::mt19937 rng(11);
+    std::normal_distribution<double> g;
+    const auto random = [&] { return static_cast<T>(g(rng)); };
+    const auto random_q = [&] { return quat(random(), random(), random(), random()).normalized(); };
+    const auto near = [&](const quat& q, double angle) {
+        const Eigen::Matrix<T, 3, 1> axis(random(), random(), random());
+        return quat(q * quat(Eigen::AngleAxis<T>(static_cast<T>(angle), axis.normalized())));
+    };
+    // Parameters of an eased transition, the ends, and some outside [0, 1].
+    std::vector<T> t;
+    for (int k = 1; k < 40; ++k) t.push_back(anima::interpolation_parameter(T(k), T(40), anima::easing::ease_in_out));
+    for (T u : {T(0), T(1), T(0.5), T(-0.25), T(1.5), T(0.3)}) t.push_back(u);
+    std::vector<quat> got(t.size());
+    int differ = 0;
+    for (int i = 0; i < 200; ++i) {
+        const quat a = random_q();
+        // Far apart, nearly identical, identical, the other hemisphere, off unit length.
+        const double angles[] = {2.5, 1.0, 0.2, 1e-3, 1e-9, 0.0};
+        quat b = i % 7 == 6 ? random_q() : near(a, angles[i % 6]);
+        if (i % 5 == 4) b.coeffs() = -b.coeffs();
+        if (i % 11 == 10) b.coeffs() *= T(1.01);
+        anima::detail::slerp_many(a, b, t.data(), t.size(), got.data());
+        for (std::size_t k = 0; k < t.size(); ++k)
+            differ += !same_bits(got[k].coeffs(), anima::slerp(a, b, t[k]).coeffs());
+        const quat s1 = near(a, 0.3), s2 = near(b, 0.2);
+        anima::detail::squad_many(a, b, s1, s2, t.data(), t.size(), got.data());
+        for (std::size_t k = 0; k < t.size(); ++k)
+            differ += !same_bits(got[k].coeffs(), anima::squad(a, b, s1, s2, t[k]).coeffs());
+    }
+    CHECK(differ == 0);
+}
+
+}  // namespace
+
+TEST_CASE("slerp and squad of one pair at many parameters are slerp's and squad's, bit for bit") {
+    check_blend_many<double>();
+    check_blend_many<float>();
+}
+
+TEST_CASE("joint speeds: the mean |angular velocity| of the steps, for small and large steps") {
+    // A joint turning by a growing angle per frame (up to 2.9 rad: every
+    // series length, and steps beyond the series), and its mean speed and
+    // acceleration over windows, against angular_velocity step by step.
+    const auto check = [](auto zero, double tolerance) {
+        using T = decltype(zero);
+        using quat = Eigen::Quaternion<T>;
+        anima::skeleton<T> sk;
+        sk.add_joint("root", -1, Eigen::Matrix<T, 3, 1>::Zero());
+        sk.add_joint("knee", 0, Eigen::Matrix<T, 3, 1>::UnitY());
+        const std::size_t n = 60;
+        anima::clip<T> c(sk, n, T(1) / T(120));
+        quat q = quat::Identity();
+        for (std::size_t f = 0; f < n; ++f) {
+            const double step = 1e-4 * std::pow(1.2, static_cast<double>(f));  // 1e-4 .. 4.4 rad
+            const Eigen::Matrix<T, 3, 1> axis = Eigen::Matrix<T, 3, 1>(1, T(f % 3), 2).normalized();
+            q = quat(Eigen::AngleAxis<T>(static_cast<T>(std::min(step, 2.9)), axis)) * q;
+            c.set_rotation(f, 1, q);
+            const T heading = T(0.01) * static_cast<T>(f);
+            c.set_rotation(f, 0, quat(Eigen::AngleAxis<T>(heading, Eigen::Matrix<T, 3, 1>::UnitY())));
+        }
+        anima::detail::rates_scratch<T> scratch;
+        double worst = 0;
+        for (std::size_t first = 0; first + 1 < n; first += 7) {
+            const std::size_t last = std::min(first + 12, n - 1);
+            anima::detail::joint_rates(c, static_cast<std::ptrdiff_t>(first), static_cast<std::ptrdiff_t>(last),
+                                       static_cast<const quat*>(nullptr), scratch);
+            double speed = 0, accel = 0;
+            Eigen::Matrix<T, 3, 1> previous = Eigen::Matrix<T, 3, 1>::Zero();
+            for (std::size_t k = first; k < last; ++k) {
+                const auto w = anima::angular_velocity(c.rotation(k, 1), c.rotation(k + 1, 1), c.frame_time());
+                speed += static_cast<double>(w.norm());
+                if (k > first) accel += static_cast<double>((w - previous).norm() / c.frame_time());
+                previous = w;
+            }
+            const auto steps = static_cast<double>(last - first);
+            speed /= steps;
+            if (steps > 1) accel /= steps - 1;
+            const auto error = [](T got, double expected) {
+                return std::abs(static_cast<double>(got) - expected) / expected;
+            };
+            worst = std::max(worst, error(scratch.mean_speed[1], speed));
+            if (steps > 1) worst = std::max(worst, error(scratch.mean_acceleration[1], accel));
+        }
+        CHECK(worst < tolerance);
+    };
+    check(0.0, 1e-13);
+    check(0.0f, 1e-5);
 }

@@ -16,17 +16,23 @@
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
-#include <anima/rotation/angular_velocity.hpp>
-#include <anima/rotation/quaternion.hpp>
 #include <anima/motion/joint_roles.hpp>
+#include <anima/rotation/detail/angle_series.hpp>
+#include <anima/rotation/detail/lanes.hpp>
+#include <anima/rotation/detail/quat4.hpp>
+#include <anima/rotation/exp_log.hpp>
+#include <anima/rotation/quaternion.hpp>
 
+#include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace anima {
@@ -80,14 +86,72 @@ struct timing_result {
 
 namespace detail {
 
-/// Mean |angular velocity| and mean |angular acceleration| of joint j's local
-/// rotation over the one-frame steps in [first, last] (clamped to the clip).
-/// Averaging over a short window rather than reading one instant keeps a
-/// joint caught at the turning point of its swing from looking still.
+/// Terms of the series for phi / sin(phi) in y = cos(phi) - 1 (angle_series
+/// at tau = 0, term i = v_1 ... v_i y^i) that leave the first omitted term
+/// below epsilon / 8 for -y <= bound, as direct_series_terms does for 0.2.
 template <class T>
-void rotation_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, std::size_t j,
-                    const Eigen::Quaternion<T>& turn, T& speed, T& accel) {
-    speed = accel = T(0);
+constexpr int half_angle_ratio_terms(T bound) {
+    T term = 1;
+    int n = 0;
+    for (;; ++n) {
+        term *= bound * T(n + 1) / T(2 * n + 3);
+        if (term < std::numeric_limits<T>::epsilon() / 8) return n;
+    }
+}
+
+/// phi / sin(phi) for every y = cos(phi) - 1 of a fixed-size array: the
+/// series of angle_series at tau = 0 with `terms` terms, by the same Horner's
+/// rule over pairs of terms.
+template <int terms, class A>
+A half_angle_ratio(const A& y) {
+    using T = typename A::Scalar;
+    static constexpr angle_series_coefficients<T, terms> s{};
+    A r = A::Constant(T(1));
+    for (int i = (terms % 2 == 0 ? terms - 1 : terms); i >= 1; i -= 2) {
+        const A w = y * (-s.v[i]);
+        if (i + 1 <= terms)
+            r = T(1) + w + (w * (y * (-s.v[i + 1]))) * r;
+        else
+            r = T(1) + w;
+    }
+    return r;
+}
+
+/// Memory of joint_rates, kept from call to call.
+template <class T>
+struct rates_scratch {
+    std::vector<T> q[4];  ///< window frames by component (w, x, y, z): q[c][f * joints + j]
+    std::vector<T> w[3];  ///< angular velocity of each step: w[c][k * joints + j]
+    std::vector<T> speed, change;  ///< |w| of each step; |w - the same joint's w a step before|
+    std::vector<T> mean_speed, mean_acceleration;  ///< per joint: the results
+};
+
+/// Mean |angular velocity| and mean |angular acceleration| of every joint's
+/// local rotation over the one-frame steps in [first, last] (clamped to the
+/// clip), the root's rotations first turned by root_turn when it is given;
+/// into s.mean_speed and s.mean_acceleration. Averaging over a short window
+/// rather than reading one instant keeps a joint caught at the turning point
+/// of its swing from looking still.
+///
+/// A step's angular velocity is angular_velocity's, the rotation vector of
+/// q_(k+1) q_k^-1 over dt, here for all joints and steps at once in Eigen's
+/// vectorised fixed-size arrays: with (w, v) the step's quaternion, w >= 0
+/// (one Newton step brings it to unit length), the rotation vector is
+/// 2 (phi / sin(phi)) v, phi / sin(phi) the series of angle_series.hpp in
+/// y = w - 1: exact to rounding, with no arc tangent, square root or
+/// division, and few terms for the small steps of 120 Hz motion (the number
+/// is chosen once for all steps, from the largest). Steps over 73 degrees,
+/// or of quaternions not near unit length, take angular_velocity's own path.
+template <class T>
+void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, const Eigen::Quaternion<T>* root_turn,
+                 rates_scratch<T>& s) {
+    constexpr int width = 2 * lane_count<T>;  // steps at a time: two vectors
+    using chunk = Eigen::Array<T, width, 1>;
+    using array = Eigen::Array<T, Eigen::Dynamic, 1>;
+    using table = Eigen::Array<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const std::size_t nj = c.joints();
+    s.mean_speed.assign(nj, T(0));
+    s.mean_acceleration.assign(nj, T(0));
     const auto n = static_cast<std::ptrdiff_t>(c.frames());
     first = std::max<std::ptrdiff_t>(first, 0);
     last = std::min<std::ptrdiff_t>(last, n - 1);
@@ -97,30 +161,119 @@ void rotation_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last,
         first = std::min<std::ptrdiff_t>(first, n - 2);
         last = first + 1;
     }
-    const T dt = c.frame_time();
-    const auto q = [&](std::ptrdiff_t k) { return Eigen::Quaternion<T>(turn * c.rotation(static_cast<std::size_t>(k), j)); };
-    Eigen::Matrix<T, 3, 1> previous = Eigen::Matrix<T, 3, 1>::Zero();
-    T accel_sum = 0;
-    for (std::ptrdiff_t k = first; k < last; ++k) {
-        const Eigen::Matrix<T, 3, 1> w = angular_velocity(q(k), q(k + 1), dt);
-        speed += w.norm();
-        if (k > first) accel_sum += (w - previous).norm() / dt;
-        previous = w;
+    const auto steps = static_cast<std::size_t>(last - first);
+    const std::size_t count = steps * nj, padded = (count + width - 1) / width * width;
+    const T dt = c.frame_time(), scale = T(2) / dt;
+    // The frames by component, the joints of a frame together as the clip
+    // stores them; identities past the end, so that a last partial group of
+    // steps is finite.
+    for (auto& v : s.q) v.resize(padded + nj);
+    const Eigen::Quaternion<T>* r = c.rotations().data() + static_cast<std::size_t>(first) * nj;
+    for (std::size_t i = 0; i < padded + nj; ++i) {
+        const Eigen::Quaternion<T> q = i < count + nj ? r[i] : Eigen::Quaternion<T>::Identity();
+        s.q[0][i] = q.w();
+        s.q[1][i] = q.x();
+        s.q[2][i] = q.y();
+        s.q[3][i] = q.z();
     }
-    speed /= static_cast<T>(last - first);
-    if (last - first > 1) accel = accel_sum / static_cast<T>(last - first - 1);
+    if (root_turn)
+        for (std::size_t i = 0; i < count + nj; i += nj) {
+            const Eigen::Quaternion<T> q = *root_turn * r[i];
+            s.q[0][i] = q.w();
+            s.q[1][i] = q.x();
+            s.q[2][i] = q.y();
+            s.q[3][i] = q.z();
+        }
+    // First pass: each step's quaternion e = b conj(a), its Newton factor
+    // towards unit length, negated when e.w < 0 (the shorter way round), and
+    // y = w - 1 of the unit step. e's vector part goes to w, y to speed, the
+    // factor (times 2 / dt) to change, for the second pass.
+    for (auto& v : s.w) v.resize(padded);
+    s.speed.resize(padded);
+    s.change.resize(padded);
+    const auto at = [](const std::vector<T>& v, std::size_t from) { return Eigen::Map<const chunk>(v.data() + from); };
+    const auto to = [](std::vector<T>& v, std::size_t from) { return Eigen::Map<chunk>(v.data() + from); };
+    chunk off_unit = chunk::Zero(), lowest = chunk::Zero();
+    for (std::size_t i = 0; i < padded; i += width) {
+        const chunk aw = at(s.q[0], i), ax = at(s.q[1], i), ay = at(s.q[2], i), az = at(s.q[3], i);
+        const chunk bw = at(s.q[0], i + nj), bx = at(s.q[1], i + nj), by = at(s.q[2], i + nj), bz = at(s.q[3], i + nj);
+        // quat4's product, written out with its order of operations.
+        const chunk ew = bw * aw + bx * ax + by * ay + bz * az, ex = bx * aw - bw * ax - by * az + bz * ay,
+                    ey = bx * az - bw * ay + by * aw - bz * ax, ez = by * ax - (bw * az + bx * ay) + bz * aw;
+        const chunk n2 = ew * ew + ex * ex + ey * ey + ez * ez;
+        off_unit = off_unit.max((n2 - T(1)).abs());
+        chunk g = T(1.5) - T(0.5) * n2;
+        g = (ew < T(0)).select(-g, g);
+        const chunk y = ew * g - T(1);
+        lowest = lowest.min(y);
+        to(s.w[0], i) = ex;
+        to(s.w[1], i) = ey;
+        to(s.w[2], i) = ez;
+        to(s.speed, i) = y;
+        to(s.change, i) = g * scale;
+    }
+    // Second pass, with as many terms as the largest step needs (steps up to
+    // 5 and 20 degrees: 4 and 7 terms in double, 2 and 3 in float; up to 73
+    // degrees direct_series_terms): w = 2 (phi / sin(phi)) v / dt, and |w|.
+    const T largest = -lowest.minCoeff();
+    const auto finish = [&](auto terms) {
+        for (std::size_t i = 0; i < padded; i += width) {
+            const chunk h = half_angle_ratio<decltype(terms)::value>(chunk(at(s.speed, i))) * at(s.change, i);
+            const chunk wx = h * at(s.w[0], i), wy = h * at(s.w[1], i), wz = h * at(s.w[2], i);
+            to(s.w[0], i) = wx;
+            to(s.w[1], i) = wy;
+            to(s.w[2], i) = wz;
+            to(s.speed, i) = (wx * wx + wy * wy + wz * wz).sqrt();
+        }
+    };
+    constexpr T tiny = T(1) / T(1024), small = T(1) / T(64);
+    if (largest <= tiny)
+        finish(std::integral_constant<int, half_angle_ratio_terms<T>(tiny)>{});
+    else if (largest <= small)
+        finish(std::integral_constant<int, half_angle_ratio_terms<T>(small)>{});
+    else
+        finish(std::integral_constant<int, direct_series_terms<T>()>{});
+    const auto size = static_cast<Eigen::Index>(count), joints = static_cast<Eigen::Index>(nj);
+    const auto velocity = [&](int m) { return Eigen::Map<array>(s.w[static_cast<std::size_t>(m)].data(), size); };
+    // Constants of the series' range, folded at compile time (near_unit_tolerance is a square root).
+    constexpr T unit_tolerance = near_unit_tolerance<T>(), series_limit = direct_series_limit<T>();
+    if (off_unit.maxCoeff() > unit_tolerance || largest > series_limit) {
+        // The steps the series does not cover, as angular_velocity computes them.
+        for (std::size_t i = 0; i < count; ++i) {
+            const quat4<T> a{s.q[0][i], s.q[1][i], s.q[2][i], s.q[3][i]};
+            const quat4<T> b{s.q[0][i + nj], s.q[1][i + nj], s.q[2][i + nj], s.q[3][i + nj]};
+            const quat4<T> e = b * conj4(a);
+            const T n2 = dot4(e, e);
+            if (std::abs(n2 - T(1)) <= unit_tolerance && T(1) - std::abs(e.w) * (T(1.5) - T(0.5) * n2) <= series_limit)
+                continue;
+            const auto v = to_rotation_vector(store<Eigen::Quaternion<T>>(e));
+            for (std::size_t m = 0; m < 3; ++m) s.w[m][i] = v[static_cast<int>(m)] * (T(1) / dt);
+        }
+        Eigen::Map<array>(s.speed.data(), size) =
+            (velocity(0).square() + velocity(1).square() + velocity(2).square()).sqrt();
+    }
+    // |w - the same joint's w a step before|, from the second step on; then
+    // the means per joint (a row of the tables).
+    const auto later = size - joints;
+    s.change.resize(count);
+    const auto difference = [&](int m) { return velocity(m).tail(later) - velocity(m).head(later); };
+    Eigen::Map<array>(s.change.data(), later) =
+        (difference(0).square() + difference(1).square() + difference(2).square()).sqrt();
+    Eigen::Map<array>(s.mean_speed.data(), joints) =
+        Eigen::Map<const table>(s.speed.data(), joints, static_cast<Eigen::Index>(steps)).rowwise().sum() /
+        static_cast<T>(steps);
+    if (steps > 1)
+        Eigen::Map<array>(s.mean_acceleration.data(), joints) =
+            Eigen::Map<const table>(s.change.data(), joints, static_cast<Eigen::Index>(steps - 1)).rowwise().sum() /
+            dt / static_cast<T>(steps - 1);
 }
 
-}  // namespace detail
-
-/// Per-joint t_i and the transition length T for switching from frame
-/// `trigger` of a to frame `b_start` of b. `b_root_turn` is the heading turn
-/// applied to b's root (so that root rotations are compared facing the same
-/// way). `roles` has one entry per joint.
+/// variable_timing into `out`, whose joint vector is reused, with `scratch`
+/// kept from call to call.
 template <class T>
-timing_result<T> variable_timing(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
-                                 const std::vector<joint_role>& roles, const Eigen::Quaternion<T>& b_root_turn,
-                                 const timing_params& params = {}) {
+void variable_timing_into(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
+                          const std::vector<joint_role>& roles, const Eigen::Quaternion<T>& b_root_turn,
+                          const timing_params& params, timing_result<T>& out, rates_scratch<T>& scratch) {
     if (trigger >= a.frames() || b_start >= b.frames())
         throw invalid_argument("anima::variable_timing: trigger frame " + std::to_string(trigger) + " of " +
                                std::to_string(a.frames()) + " or start frame " + std::to_string(b_start) + " of " +
@@ -130,23 +283,30 @@ timing_result<T> variable_timing(const clip<T>& a, std::size_t trigger, const cl
     if (!(params.min_duration >= 0) || !(params.max_duration >= params.min_duration) || !(params.min_speed > 0) ||
         !(params.min_acceleration > 0) || !(params.speed_window >= 0))
         throw invalid_argument("anima::variable_timing: need 0 <= min_duration <= max_duration and positive floors");
-    timing_result<T> out;
-    out.joints.resize(a.joints());
-    T longest = -1;
-    const Eigen::Quaternion<T> none = Eigen::Quaternion<T>::Identity();
+    const std::size_t nj = a.joints();
+    out.joints.resize(nj);
+    out.limiting_joint = 0;
     const auto window = std::max<std::ptrdiff_t>(
         1, static_cast<std::ptrdiff_t>(std::lround(params.speed_window / static_cast<double>(a.frame_time()))));
-    for (std::size_t j = 0; j < a.joints(); ++j) {
+    joint_rates(a, static_cast<std::ptrdiff_t>(trigger) - window, static_cast<std::ptrdiff_t>(trigger),
+                static_cast<const Eigen::Quaternion<T>*>(nullptr), scratch);
+    for (std::size_t j = 0; j < nj; ++j) {
+        out.joints[j].speed_a = scratch.mean_speed[j];
+        out.joints[j].acceleration_a = scratch.mean_acceleration[j];
+    }
+    joint_rates(b, static_cast<std::ptrdiff_t>(b_start), static_cast<std::ptrdiff_t>(b_start) + window, &b_root_turn,
+                scratch);
+    T longest = -1;
+    for (std::size_t j = 0; j < nj; ++j) {
         auto& jt = out.joints[j];
         jt.joint = j;
         jt.role = roles[j];
         jt.key = roles[j] == joint_role::root || roles[j] == joint_role::leg || roles[j] == joint_role::foot;
-        const auto& turn = j == 0 ? b_root_turn : none;
-        jt.angle = angle_between(a.rotation(trigger, j), Eigen::Quaternion<T>(turn * b.rotation(b_start, j)));
-        detail::rotation_rates(a, static_cast<std::ptrdiff_t>(trigger) - window, static_cast<std::ptrdiff_t>(trigger), j,
-                               none, jt.speed_a, jt.acceleration_a);
-        detail::rotation_rates(b, static_cast<std::ptrdiff_t>(b_start), static_cast<std::ptrdiff_t>(b_start) + window, j,
-                               turn, jt.speed_b, jt.acceleration_b);
+        jt.speed_b = scratch.mean_speed[j];
+        jt.acceleration_b = scratch.mean_acceleration[j];
+        // Only the root is turned.
+        const Eigen::Quaternion<T>& b_pose = b.rotation(b_start, j);
+        jt.angle = angle_between(a.rotation(trigger, j), j == 0 ? Eigen::Quaternion<T>(b_root_turn * b_pose) : b_pose);
         if (params.model == timing_model::velocity) {
             const T w = std::max(T(0.5) * (jt.speed_a + jt.speed_b), static_cast<T>(params.min_speed));
             jt.time = jt.angle / w;
@@ -161,6 +321,21 @@ timing_result<T> variable_timing(const clip<T>& a, std::size_t trigger, const cl
     }
     out.unclamped = std::max(longest, T(0));
     out.duration = std::clamp(out.unclamped, static_cast<T>(params.min_duration), static_cast<T>(params.max_duration));
+}
+
+}  // namespace detail
+
+/// Per-joint t_i and the transition length T for switching from frame
+/// `trigger` of a to frame `b_start` of b. `b_root_turn` is the heading turn
+/// applied to b's root (so that root rotations are compared facing the same
+/// way). `roles` has one entry per joint.
+template <class T>
+timing_result<T> variable_timing(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
+                                 const std::vector<joint_role>& roles, const Eigen::Quaternion<T>& b_root_turn,
+                                 const timing_params& params = {}) {
+    timing_result<T> out;
+    detail::rates_scratch<T> scratch;
+    detail::variable_timing_into(a, trigger, b, b_start, roles, b_root_turn, params, out, scratch);
     return out;
 }
 

@@ -12,18 +12,22 @@
 //      trigger; the vertical part is corrected linearly in t to land on B's
 //      start height, so a flight path stays a parabola with the given gravity;
 //   5. place B where the transition ends, heading aligned: no jump.
+// make_transition returns all of it with a placed copy of B; for a game loop,
+// make_transition_into writes the same into storage the caller keeps (and
+// says where B goes instead of copying it), with no allocation per call.
 #pragma once
 
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
+#include <anima/motion/joint_roles.hpp>
 #include <anima/motion/resample.hpp>
 #include <anima/rotation/lerp.hpp>
 #include <anima/rotation/quaternion.hpp>
 #include <anima/rotation/slerp.hpp>
 #include <anima/rotation/squad.hpp>
 #include <anima/transition/classify.hpp>
-#include <anima/motion/joint_roles.hpp>
+#include <anima/transition/detail/blend_many.hpp>
 #include <anima/transition/placement.hpp>
 #include <anima/transition/timing.hpp>
 
@@ -68,8 +72,10 @@ struct transition_params {
     double root_window = 0.25;           ///< s of A fitted (quadratic) for the root's v and a at the trigger
 };
 
+/// A transition without a copy of clip B: what make_transition_into writes
+/// for a game loop, which plays B through `placement` instead.
 template <class T>
-struct transition {
+struct transition_frames {
     clip<T> frames;       ///< the in-between frames (strictly between A's trigger and B's start)
     T duration = 0;       ///< s: T rounded to whole frames (frames.frames() + 1 steps)
     timing_result<T> timing;
@@ -78,41 +84,81 @@ struct transition {
     motion_classification class_a, class_b;
     bool flight = false;                 ///< Eq 13 used for the root
     point_motion<T> root_at_trigger;     ///< v and a of Eq 12-13
-    clip<T> placed_b;                    ///< B from its start frame, heading aligned, placed where the transition ends
+    clip_placement<T> placement;         ///< where B goes: from its start frame, heading aligned, at the end
 };
 
-/// The transition from frame `trigger` of a to frame `b_start` of b. The
-/// clips must share a hierarchy (names, parents, position channels); bone
-/// lengths may differ and the output uses A's skeleton. B is resampled to
-/// A's frame time when they differ.
+/// A transition and B placed where it ends: what make_transition returns.
 template <class T>
-transition<T> make_transition(const clip<T>& a, std::size_t trigger, const clip<T>& b_in, std::size_t b_start = 0,
-                              const transition_params& params = {}) {
-    check_same_hierarchy(a.skeleton(), b_in.skeleton());
+struct transition : transition_frames<T> {
+    clip<T> placed_b;  ///< B from its start frame, placed by `placement`
+};
+
+/// What make_transition_into keeps from call to call so that, once it has
+/// seen a skeleton and a transition as long, it allocates nothing: keep one
+/// per thread (or per character) and pass it to every call. The members are
+/// scratch space, not results.
+template <class T>
+struct transition_workspace {
+    skeleton<T> roles_of;                 ///< the skeleton `roles` were found for
+    std::vector<joint_role> roles;        ///< joint_roles(roles_of)
+    std::vector<T> h, h_linear;           ///< the interpolation parameter at each in-between frame
+    std::vector<Eigen::Quaternion<T>> blend;  ///< one joint's in-between rotations
+    detail::rates_scratch<T> rates;
+    detail::root_fit<T> root_fit;
+};
+
+namespace detail {
+
+/// joint_roles(sk), found again only when the names or roots differ from the
+/// last skeleton's (the roles depend on nothing else).
+template <class T>
+const std::vector<joint_role>& cached_roles(const skeleton<T>& sk, transition_workspace<T>& ws) {
+    bool same = ws.roles_of.size() == sk.size() && ws.roles.size() == sk.size();
+    for (std::size_t j = 0; same && j < sk.size(); ++j)
+        same = (sk[j].parent < 0) == (ws.roles_of[j].parent < 0) && sk[j].name == ws.roles_of[j].name;
+    if (!same) {
+        ws.roles = joint_roles(sk);
+        ws.roles_of = sk;
+    }
+    return ws.roles;
+}
+
+/// make_transition's checks of its arguments; the errors name `who`.
+template <class T>
+void check_transition(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
+                      const transition_params& params, const char* who) {
+    check_same_hierarchy(a.skeleton(), b.skeleton());
     if (trigger >= a.frames())
-        throw invalid_argument("anima::make_transition: trigger frame " + std::to_string(trigger) +
+        throw invalid_argument(std::string(who) + ": trigger frame " + std::to_string(trigger) +
                                " is outside clip A (" + std::to_string(a.frames()) + " frames)");
-    if (b_start >= b_in.frames())
-        throw invalid_argument("anima::make_transition: start frame " + std::to_string(b_start) +
-                               " is outside clip B (" + std::to_string(b_in.frames()) + " frames)");
+    if (b_start >= b.frames())
+        throw invalid_argument(std::string(who) + ": start frame " + std::to_string(b_start) +
+                               " is outside clip B (" + std::to_string(b.frames()) + " frames)");
     if (!params.roles.empty() && params.roles.size() != a.joints())
-        throw invalid_argument("anima::make_transition: " + std::to_string(params.roles.size()) + " roles for " +
+        throw invalid_argument(std::string(who) + ": " + std::to_string(params.roles.size()) + " roles for " +
                                std::to_string(a.joints()) + " joints");
     if (!params.methods.empty() && params.methods.size() != a.joints())
-        throw invalid_argument("anima::make_transition: " + std::to_string(params.methods.size()) +
+        throw invalid_argument(std::string(who) + ": " + std::to_string(params.methods.size()) +
                                " interpolation methods for " + std::to_string(a.joints()) + " joints");
     if (!(params.large_angle >= 0) || !(params.gravity >= 0) || !std::isfinite(params.gravity_factor) ||
         !(params.root_window >= 0))
-        throw invalid_argument("anima::make_transition: large_angle and gravity must be non-negative");
-    const bool resampled = std::abs(b_in.frame_time() - a.frame_time()) > T(1e-9) * a.frame_time();
-    const clip<T> b_resampled = resampled ? resample(b_in, a.frame_time()) : clip<T>();
-    const clip<T>& b = resampled ? b_resampled : b_in;
-    if (resampled) b_start = detail::resampled_frame(b_start, b_in.frame_time(), b);
+        throw invalid_argument(std::string(who) + ": large_angle and gravity must be non-negative");
+}
 
+/// Whether b's frame time differs from a's (more than rounding).
+template <class T>
+bool other_frame_time(const clip<T>& a, const clip<T>& b) {
+    return std::abs(b.frame_time() - a.frame_time()) > T(1e-9) * a.frame_time();
+}
+
+/// The transition from checked arguments, B at A's frame time.
+template <class T>
+void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
+                             const transition_params& params, transition_frames<T>& out, transition_workspace<T>& ws) {
     using vec3 = Eigen::Matrix<T, 3, 1>;
     using quat = Eigen::Quaternion<T>;
-    transition<T> out;
-    const auto roles = params.roles.empty() ? joint_roles(a.skeleton()) : params.roles;
+    const std::size_t nj = a.joints();
+    const std::vector<joint_role>& roles = params.roles.empty() ? cached_roles(a.skeleton(), ws) : params.roles;
     out.class_a = params.class_a ? *params.class_a : classify_motion(a, roles, params.classification);
     classify_params cb = params.classification;
     cb.up = out.class_a.up;  // one world for both clips
@@ -127,13 +173,14 @@ transition<T> make_transition(const clip<T>& a, std::size_t trigger, const clip<
 
     // Heading and timing.
     const quat turn = heading_change(b.rotation(b_start, 0), a.rotation(trigger, 0), up);
-    out.timing = variable_timing(a, trigger, b, b_start, roles, turn, params.timing);
+    variable_timing_into(a, trigger, b, b_start, roles, turn, params.timing, out.timing, ws.rates);
     const auto steps = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(out.timing.duration / dt)));
     out.duration = dt * static_cast<T>(steps);
 
     // Root path (Eq 12 / Eq 13) and B's placement at its end.
     const bool translated = a.skeleton().translation_slot(0) >= 0;
-    out.root_at_trigger = translated ? root_motion_at(a, trigger, static_cast<std::size_t>(std::lround(params.root_window / static_cast<double>(dt))) + 1) : point_motion<T>{};
+    const auto root_frames = static_cast<std::size_t>(std::lround(params.root_window / static_cast<double>(dt))) + 1;
+    out.root_at_trigger = translated ? root_motion_at(a, trigger, root_frames, ws.root_fit) : point_motion<T>{};
     const vec3 p0 = a.root_position(trigger);
     const vec3 v = out.root_at_trigger.velocity;
     const vec3 acc = out.flight ? vec3(T(2) * static_cast<T>(params.gravity_factor) *
@@ -144,11 +191,11 @@ transition<T> make_transition(const clip<T>& a, std::size_t trigger, const clip<
     vec3 end = predicted(out.duration);
     const T end_height = b0.dot(up_vec), predicted_height = end.dot(up_vec);
     end += (end_height - predicted_height) * up_vec;  // keep B's own height above its ground
-    out.placed_b = place_clip(b, b_start, turn, end);
+    out.placement = clip_placement<T>{b_start, turn, b0, end};
 
     // Per-joint methods.
-    out.methods.resize(a.joints());
-    for (std::size_t j = 0; j < a.joints(); ++j) {
+    out.methods.resize(nj);
+    for (std::size_t j = 0; j < nj; ++j) {
         const interpolation chosen = params.methods.empty() ? interpolation::automatic : params.methods[j];
         if (chosen != interpolation::automatic) out.methods[j] = chosen;
         else if (roles[j] == joint_role::finger) out.methods[j] = interpolation::lerp;
@@ -156,45 +203,104 @@ transition<T> make_transition(const clip<T>& a, std::size_t trigger, const clip<
         else out.methods[j] = interpolation::slerp;
     }
 
-    // The in-between frames.
-    const clip<T>& pb = out.placed_b;
-    out.frames = clip<T>(a.skeleton(), steps - 1, dt);
-    std::vector<quat> s1(a.joints()), s2(a.joints());
-    for (std::size_t j = 0; j < a.joints(); ++j) {
-        if (out.methods[j] != interpolation::squad) continue;
-        const quat& q1 = a.rotation(trigger, j);
-        const quat& q2 = pb.rotation(0, j);
-        const quat& before = a.rotation(trigger > 0 ? trigger - 1 : trigger, j);
-        const quat& after = pb.rotation(pb.frames() > 1 ? 1 : 0, j);
-        s1[j] = squad_control_point(before, q1, q2);
-        s2[j] = squad_control_point(q1, q2, after);
-    }
+    // The in-between frames, in A's skeleton; the clip keeps its storage.
+    if (out.frames.skeleton() != a.skeleton()) out.frames = clip<T>(a.skeleton(), 0, dt);
+    out.frames.set_frame_time(dt);
+    out.frames.resize(steps - 1);
+    ws.h.resize(steps - 1);
+    ws.h_linear.resize(steps - 1);
+    ws.blend.resize(steps - 1);
     for (std::size_t k = 1; k < steps; ++k) {
         const T t = dt * static_cast<T>(k);
-        const T h = interpolation_parameter(t, out.duration, out.parameter);
-        const T h_linear = interpolation_parameter(t, out.duration, easing::linear);
-        for (std::size_t j = 0; j < a.joints(); ++j) {
-            const quat& q1 = a.rotation(trigger, j);
-            const quat q2 = align_hemisphere(pb.rotation(0, j), q1);
-            quat q;
-            switch (out.methods[j]) {
-                case interpolation::lerp: q = anima::lerp(q1, q2, roles[j] == joint_role::finger ? h_linear : h); break;
-                // B's rotation as it is: s2 was built on its side, and squad
-                // moves the two together to q1's side.
-                case interpolation::squad: q = squad(q1, pb.rotation(0, j), s1[j], s2[j], h); break;
-                default: q = slerp(q1, q2, h); break;
+        ws.h[k - 1] = interpolation_parameter(t, out.duration, out.parameter);
+        ws.h_linear[k - 1] = interpolation_parameter(t, out.duration, easing::linear);
+    }
+    // Joint by joint: a joint blends the same two rotations in every frame.
+    // Placed B differs from B only at the root.
+    const std::size_t next = b_start + 1 < b.frames() ? b_start + 1 : b_start;
+    for (std::size_t j = 0; j < nj; ++j) {
+        const quat& q1 = a.rotation(trigger, j);
+        const quat b_first = j == 0 ? out.placement.rotation(b.rotation(b_start, 0)) : b.rotation(b_start, j);
+        const quat q2 = align_hemisphere(b_first, q1);
+        switch (out.methods[j]) {
+            case interpolation::lerp: {
+                const std::vector<T>& hs = roles[j] == joint_role::finger ? ws.h_linear : ws.h;
+                for (std::size_t k = 0; k + 1 < steps; ++k) out.frames.set_rotation(k, j, anima::lerp(q1, q2, hs[k]));
+                break;
             }
-            out.frames.set_rotation(k - 1, j, q);
-            if (j > 0 && a.skeleton().translation_slot(j) >= 0)
-                out.frames.set_translation(k - 1, j, (T(1) - h) * a.translation(trigger, j) + h * pb.translation(0, j));
+            case interpolation::squad: {
+                // Control points from A's frame before the trigger and placed
+                // B's second frame; B's rotation as it is: s2 was built on its
+                // side, and squad moves the two together to q1's side.
+                const quat& before = a.rotation(trigger > 0 ? trigger - 1 : trigger, j);
+                const quat after = j == 0 ? out.placement.rotation(b.rotation(next, 0)) : b.rotation(next, j);
+                const quat s1 = squad_control_point(before, q1, b_first), s2 = squad_control_point(q1, b_first, after);
+                squad_many(q1, b_first, s1, s2, ws.h.data(), steps - 1, ws.blend.data());
+                for (std::size_t k = 0; k + 1 < steps; ++k) out.frames.set_rotation(k, j, ws.blend[k]);
+                break;
+            }
+            default:
+                slerp_many(q1, q2, ws.h.data(), steps - 1, ws.blend.data());
+                for (std::size_t k = 0; k + 1 < steps; ++k) out.frames.set_rotation(k, j, ws.blend[k]);
+                break;
         }
-        if (translated) {
+        if (j > 0 && a.skeleton().translation_slot(j) >= 0) {
+            const vec3 &from = a.translation(trigger, j), &to = b.translation(b_start, j);
+            for (std::size_t k = 0; k + 1 < steps; ++k)
+                out.frames.set_translation(k, j, (T(1) - ws.h[k]) * from + ws.h[k] * to);
+        }
+    }
+    if (translated)
+        for (std::size_t k = 1; k < steps; ++k) {
             // Linear-in-t vertical correction: keeps Eq 13's second derivative.
+            const T t = dt * static_cast<T>(k);
             vec3 p = predicted(t);
             p += (t / out.duration) * (end_height - predicted_height) * up_vec;
             out.frames.set_root_position(k - 1, p);
         }
-    }
+}
+
+}  // namespace detail
+
+/// The transition from frame `trigger` of a to frame `b_start` of b written
+/// into `out`, with `ws` as scratch: the per-call form of make_transition for
+/// a game loop. The results are make_transition's, bit for bit, except that
+/// B is not copied: out.placement says where B's frames go (the root turned
+/// and moved, clip_placement::rotation and ::position; the other joints as
+/// they are). Once `out` and `ws` have seen the skeleton and a transition at
+/// least as long, a call allocates nothing, provided the clips' classes are
+/// given (transition_params::class_a, class_b: classifying a clip allocates)
+/// and root_window spans at most 64 frames (0.53 s at 120 Hz). B must have
+/// A's frame time (resample it once, beforehand). Throws
+/// anima::invalid_argument as make_transition does; `out` is then
+/// unspecified.
+template <class T>
+void make_transition_into(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
+                          const transition_params& params, transition_frames<T>& out, transition_workspace<T>& ws) {
+    detail::check_transition(a, trigger, b, b_start, params, "anima::make_transition_into");
+    if (detail::other_frame_time(a, b))
+        throw invalid_argument("anima::make_transition_into: clip B's frame time " +
+                               std::to_string(static_cast<double>(b.frame_time())) + " s differs from clip A's " +
+                               std::to_string(static_cast<double>(a.frame_time())) + " s: resample B first");
+    detail::make_transition_checked(a, trigger, b, b_start, params, out, ws);
+}
+
+/// The transition from frame `trigger` of a to frame `b_start` of b. The
+/// clips must share a hierarchy (names, parents, position channels); bone
+/// lengths may differ and the output uses A's skeleton. B is resampled to
+/// A's frame time when they differ.
+template <class T>
+transition<T> make_transition(const clip<T>& a, std::size_t trigger, const clip<T>& b_in, std::size_t b_start = 0,
+                              const transition_params& params = {}) {
+    detail::check_transition(a, trigger, b_in, b_start, params, "anima::make_transition");
+    const bool resampled = detail::other_frame_time(a, b_in);
+    const clip<T> b_resampled = resampled ? resample(b_in, a.frame_time()) : clip<T>();
+    const clip<T>& b = resampled ? b_resampled : b_in;
+    if (resampled) b_start = detail::resampled_frame(b_start, b_in.frame_time(), b);
+    transition<T> out;
+    transition_workspace<T> ws;
+    detail::make_transition_checked(a, trigger, b, b_start, params, out, ws);
+    out.placed_b = place_clip(b, b_start, out.placement.turn, out.placement.start);
     return out;
 }
 

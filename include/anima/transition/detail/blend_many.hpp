@@ -1,0 +1,110 @@
+// slerp and squad of one set of keys at many parameters, as the in-between
+// frames of a transition need them: what depends only on the keys (lengths,
+// angles, which series) is found once, and several parameters are worked on
+// side by side, so that their series' chains of dependent operations
+// overlap. Each result is anima::slerp's or anima::squad's, bit for bit.
+#pragma once
+
+#include <anima/rotation/detail/lanes.hpp>
+#include <anima/rotation/detail/quat4.hpp>
+#include <anima/rotation/slerp.hpp>
+#include <anima/rotation/squad.hpp>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+namespace anima::detail {
+
+/// Parameters worked on side by side.
+inline constexpr std::size_t blend_group = 4;
+
+/// Runs group(u, results) on the parameters t[0 .. n) blend_group at a time,
+/// a last partial group padded with its last parameter, and stores the
+/// results in out; single(t) does a parameter outside [0, 1] (where the fast
+/// paths do not hold) and, when `fast` is false, every parameter.
+template <class T, class Group, class Single>
+void blend_groups(const T* t, std::size_t n, bool fast, Eigen::Quaternion<T>* out, Group group, Single single) {
+    for (std::size_t k = 0; k < n; k += blend_group) {
+        const std::size_t m = std::min(blend_group, n - k);
+        T u[blend_group];
+        bool inside = fast;
+        for (std::size_t i = 0; i < blend_group; ++i) {
+            u[i] = t[k + std::min(i, m - 1)];
+            inside = inside && u[i] * (T(1) - u[i]) >= T(0);
+        }
+        if (!inside) {
+            for (std::size_t i = 0; i < m; ++i) out[k + i] = single(t[k + i]);
+            continue;
+        }
+        Eigen::Quaternion<T> results[blend_group];
+        group(u, results);
+        for (std::size_t i = 0; i < m; ++i) out[k + i] = results[i];
+    }
+}
+
+/// out[k] = slerp(a, b, t[k]) for k < n: slerp4's fast path with the pair's
+/// part taken out of the loop. What slerp4 would send elsewhere (inputs far
+/// from unit length, nearly identical inputs, t outside [0, 1]) goes to
+/// slerp itself.
+template <class T>
+void slerp_many(const Eigen::Quaternion<T>& a_in, const Eigen::Quaternion<T>& b_in, const T* t, std::size_t n,
+                Eigen::Quaternion<T>* out) {
+    const quat_lanes<T> a = to_lanes(load(a_in)), b = to_lanes(load(b_in));
+    const T na = dot_lanes(a, a), nb = dot_lanes(b, b), d = dot_lanes(a, b);
+    const T ga = T(1.5) - T(0.5) * na, gb = T(1.5) - T(0.5) * nb;
+    const T gbs = d < T(0) ? -gb : gb;  // the shorter arc
+    const T cos_theta = std::abs(d) * ga * gb;
+    constexpr T tolerance = near_unit_tolerance<T>(), identical = near_identity<T>();  // folded at compile time
+    const bool fast = std::abs(na - T(1)) + std::abs(nb - T(1)) <= tolerance && -(cos_theta - T(1)) > identical;
+    blend_groups(
+        t, n, fast, out,
+        [&](const T* u, Eigen::Quaternion<T>* results) {
+            T k0[blend_group][1], k1[blend_group][1];
+            for (std::size_t i = 0; i < blend_group; ++i) slerp_weights<T, 1>({cos_theta}, u[i], k0[i], k1[i]);
+            for (std::size_t i = 0; i < blend_group; ++i) {
+                // slerp4's correction of the result's length, then the blend.
+                const T g = T(1.5) - T(0.5) * (k0[i][0] * k0[i][0] + k1[i][0] * k1[i][0] +
+                                               T(2) * k0[i][0] * k1[i][0] * cos_theta);
+                results[i] =
+                    store<Eigen::Quaternion<T>>(from_lanes(blend_lanes(a, k0[i][0] * g * ga, b, k1[i][0] * g * gbs)));
+            }
+        },
+        [&](T u) { return slerp(a_in, b_in, u); });
+}
+
+/// out[k] = squad(q1, q2, s1, s2, t[k]) for k < n: squad4's fast path with
+/// the keys' part taken out of the loop; the rest goes to squad itself.
+template <class T>
+void squad_many(const Eigen::Quaternion<T>& q1_in, const Eigen::Quaternion<T>& q2_in, const Eigen::Quaternion<T>& s1_in,
+                const Eigen::Quaternion<T>& s2_in, const T* t, std::size_t n, Eigen::Quaternion<T>* out) {
+    const quat_lanes<T> lq1 = to_lanes(load(q1_in)), lq2 = to_lanes(load(q2_in)), ls1 = to_lanes(load(s1_in)),
+                        ls2 = to_lanes(load(s2_in));
+    const T n1 = dot_lanes(lq1, lq1), n2 = dot_lanes(lq2, lq2), m1 = dot_lanes(ls1, ls1), m2 = dot_lanes(ls2, ls2);
+    const T dq = dot_lanes(lq1, lq2), side = dq < T(0) ? T(-1) : T(1), ds = dot_lanes(ls1, ls2) * side;
+    constexpr T tolerance = near_unit_tolerance<T>();  // folded at compile time
+    const bool fast =
+        std::abs(n1 - T(1)) + std::abs(n2 - T(1)) + std::abs(m1 - T(1)) + std::abs(m2 - T(1)) <= tolerance && ds >= T(0);
+    const T g1 = T(1.5) - T(0.5) * n1, g2 = (T(1.5) - T(0.5) * n2) * side;
+    const T h1 = T(1.5) - T(0.5) * m1, h2 = (T(1.5) - T(0.5) * m2) * side;
+    const T keys = dq * g1 * g2, controls = ds * h1 * h2 * side;
+    blend_groups(
+        t, n, fast, out,
+        [&](const T* u, Eigen::Quaternion<T>* results) {
+            T k0[blend_group][2], k1[blend_group][2];
+            for (std::size_t i = 0; i < blend_group; ++i) slerp_weights<T, 2>({keys, controls}, u[i], k0[i], k1[i]);
+            quat4<T> a[blend_group], b[blend_group];
+            for (std::size_t i = 0; i < blend_group; ++i) {
+                a[i] = from_lanes(blend_lanes(lq1, k0[i][0] * g1, lq2, k1[i][0] * g2));
+                b[i] = from_lanes(blend_lanes(ls1, k0[i][1] * h1, ls2, k1[i][1] * h2));
+            }
+            for (std::size_t i = 0; i < blend_group; ++i)
+                results[i] = store<Eigen::Quaternion<T>>(
+                    slerp4(a[i], b[i], T(2) * u[i] * (T(1) - u[i]), arc::as_given, "anima::squad"));
+        },
+        [&](T u) { return squad(q1_in, q2_in, s1_in, s2_in, u); });
+}
+
+}  // namespace anima::detail
