@@ -98,7 +98,10 @@ ANIMA_FORCE_INLINE void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[
 /// Where 1 - cos(theta) is small enough for the two-term series of the weights.
 template <class T>
 constexpr T near_identity() {
-    return constexpr_sqrt(std::numeric_limits<T>::epsilon());
+    // A constexpr local: computed by the compiler, not by the square-root
+    // loop on every call (which an unoptimised or -O1 build would run).
+    constexpr T value = constexpr_sqrt(std::numeric_limits<T>::epsilon());
+    return value;
 }
 
 /// sin(k theta) / sin(theta), exact as theta -> 0 (where it tends to k).

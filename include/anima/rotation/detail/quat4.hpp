@@ -138,7 +138,8 @@ quat4<T> normalized_or_throw(const quat4<T>& q, const char* who, T* log_norm = n
 /// 3/8 (n2 - 1)^2, below epsilon / 40 here.
 template <class T>
 constexpr T near_unit_tolerance() {
-    return constexpr_sqrt(std::numeric_limits<T>::epsilon()) / T(4);
+    constexpr T value = constexpr_sqrt(std::numeric_limits<T>::epsilon()) / T(4);  // by the compiler
+    return value;
 }
 
 /// Like normalized_or_throw, cheaper for inputs already near unit length
