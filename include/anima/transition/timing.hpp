@@ -126,6 +126,52 @@ struct rates_scratch {
     std::vector<T> mean_speed, mean_acceleration;  ///< per joint: the results
 };
 
+/// joint_rates' steps that the series does not cover (over 73 degrees, or of
+/// quaternions not near unit length), as angular_velocity computes them,
+/// and the speeds again where any was replaced.
+template <class T>
+void step_rates_outside_series(rates_scratch<T>& s, std::size_t count, std::size_t nj, T dt, T off_unit, T largest) {
+    using array = Eigen::Array<T, Eigen::Dynamic, 1>;
+    // Constants of the series' range, folded at compile time (near_unit_tolerance is a square root).
+    constexpr T unit_tolerance = near_unit_tolerance<T>(), series_limit = direct_series_limit<T>();
+    if (!(off_unit > unit_tolerance || largest > series_limit)) return;
+    for (std::size_t i = 0; i < count; ++i) {
+        const quat4<T> a{s.q[0][i], s.q[1][i], s.q[2][i], s.q[3][i]};
+        const quat4<T> b{s.q[0][i + nj], s.q[1][i + nj], s.q[2][i + nj], s.q[3][i + nj]};
+        const quat4<T> e = b * conj4(a);
+        const T n2 = dot4(e, e);
+        if (std::abs(n2 - T(1)) <= unit_tolerance && T(1) - std::abs(e.w) * (T(1.5) - T(0.5) * n2) <= series_limit)
+            continue;
+        const auto v = to_rotation_vector(store<Eigen::Quaternion<T>>(e));
+        for (std::size_t m = 0; m < 3; ++m) s.w[m][i] = v[static_cast<int>(m)] * (T(1) / dt);
+    }
+    const auto size = static_cast<Eigen::Index>(count);
+    const auto velocity = [&](int m) { return Eigen::Map<array>(s.w[static_cast<std::size_t>(m)].data(), size); };
+    Eigen::Map<array>(s.speed.data(), size) = (velocity(0).square() + velocity(1).square() + velocity(2).square()).sqrt();
+}
+
+/// |w - the same joint's w a step before|, from the second step on; then
+/// the means per joint (a row of the tables).
+template <class T>
+void mean_rates(rates_scratch<T>& s, std::size_t count, std::size_t nj, std::size_t steps, T dt) {
+    using array = Eigen::Array<T, Eigen::Dynamic, 1>;
+    using table = Eigen::Array<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const auto size = static_cast<Eigen::Index>(count), joints = static_cast<Eigen::Index>(nj);
+    const auto velocity = [&](int m) { return Eigen::Map<array>(s.w[static_cast<std::size_t>(m)].data(), size); };
+    const auto later = size - joints;
+    s.change.resize(count);
+    const auto difference = [&](int m) { return velocity(m).tail(later) - velocity(m).head(later); };
+    Eigen::Map<array>(s.change.data(), later) =
+        (difference(0).square() + difference(1).square() + difference(2).square()).sqrt();
+    Eigen::Map<array>(s.mean_speed.data(), joints) =
+        Eigen::Map<const table>(s.speed.data(), joints, static_cast<Eigen::Index>(steps)).rowwise().sum() /
+        static_cast<T>(steps);
+    if (steps > 1)
+        Eigen::Map<array>(s.mean_acceleration.data(), joints) =
+            Eigen::Map<const table>(s.change.data(), joints, static_cast<Eigen::Index>(steps - 1)).rowwise().sum() /
+            dt / static_cast<T>(steps - 1);
+}
+
 /// Mean |angular velocity| and mean |angular acceleration| of every joint's
 /// local rotation over the one-frame steps in [first, last] (clamped to the
 /// clip), the root's rotations first turned by root_turn when it is given;
@@ -147,8 +193,6 @@ void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, co
                  rates_scratch<T>& s) {
     constexpr int width = 2 * lane_count<T>;  // steps at a time: two vectors
     using chunk = Eigen::Array<T, width, 1>;
-    using array = Eigen::Array<T, Eigen::Dynamic, 1>;
-    using table = Eigen::Array<T, Eigen::Dynamic, Eigen::Dynamic>;
     const std::size_t nj = c.joints();
     s.mean_speed.assign(nj, T(0));
     s.mean_acceleration.assign(nj, T(0));
@@ -233,39 +277,8 @@ void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, co
         finish(std::integral_constant<int, half_angle_ratio_terms<T>(small)>{});
     else
         finish(std::integral_constant<int, direct_series_terms<T>()>{});
-    const auto size = static_cast<Eigen::Index>(count), joints = static_cast<Eigen::Index>(nj);
-    const auto velocity = [&](int m) { return Eigen::Map<array>(s.w[static_cast<std::size_t>(m)].data(), size); };
-    // Constants of the series' range, folded at compile time (near_unit_tolerance is a square root).
-    constexpr T unit_tolerance = near_unit_tolerance<T>(), series_limit = direct_series_limit<T>();
-    if (off_unit.maxCoeff() > unit_tolerance || largest > series_limit) {
-        // The steps the series does not cover, as angular_velocity computes them.
-        for (std::size_t i = 0; i < count; ++i) {
-            const quat4<T> a{s.q[0][i], s.q[1][i], s.q[2][i], s.q[3][i]};
-            const quat4<T> b{s.q[0][i + nj], s.q[1][i + nj], s.q[2][i + nj], s.q[3][i + nj]};
-            const quat4<T> e = b * conj4(a);
-            const T n2 = dot4(e, e);
-            if (std::abs(n2 - T(1)) <= unit_tolerance && T(1) - std::abs(e.w) * (T(1.5) - T(0.5) * n2) <= series_limit)
-                continue;
-            const auto v = to_rotation_vector(store<Eigen::Quaternion<T>>(e));
-            for (std::size_t m = 0; m < 3; ++m) s.w[m][i] = v[static_cast<int>(m)] * (T(1) / dt);
-        }
-        Eigen::Map<array>(s.speed.data(), size) =
-            (velocity(0).square() + velocity(1).square() + velocity(2).square()).sqrt();
-    }
-    // |w - the same joint's w a step before|, from the second step on; then
-    // the means per joint (a row of the tables).
-    const auto later = size - joints;
-    s.change.resize(count);
-    const auto difference = [&](int m) { return velocity(m).tail(later) - velocity(m).head(later); };
-    Eigen::Map<array>(s.change.data(), later) =
-        (difference(0).square() + difference(1).square() + difference(2).square()).sqrt();
-    Eigen::Map<array>(s.mean_speed.data(), joints) =
-        Eigen::Map<const table>(s.speed.data(), joints, static_cast<Eigen::Index>(steps)).rowwise().sum() /
-        static_cast<T>(steps);
-    if (steps > 1)
-        Eigen::Map<array>(s.mean_acceleration.data(), joints) =
-            Eigen::Map<const table>(s.change.data(), joints, static_cast<Eigen::Index>(steps - 1)).rowwise().sum() /
-            dt / static_cast<T>(steps - 1);
+    step_rates_outside_series(s, count, nj, dt, off_unit.maxCoeff(), largest);
+    mean_rates(s, count, nj, steps, dt);
 }
 
 /// variable_timing into `out`, whose joint vector is reused, with `scratch`
