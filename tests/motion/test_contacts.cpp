@@ -152,7 +152,7 @@ TEST_CASE("find_contacts: Z up, centimetres, a wrong frame time and unnamed feet
         REQUIRE(one.feet.size() == 1);
         check_runs(one.feet[0].contacts, right_planted, 3);
         // With one foot looked at, the frames it is lifted are airborne.
-        CHECK(one.airborne_phases == std::vector<frame_interval>{one.airborne_phases[0], one.airborne_phases[1]});
+        REQUIRE(one.airborne_phases.size() == 2);
         check_runs(one.airborne_phases, {{0, 59}, {150, 239}}, 3);
     }
 }

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/text.hpp>
 
 #include <cstddef>
 #include <string>
@@ -42,15 +43,6 @@ template <class E, class = void>
 struct has_enum_names : std::false_type {};
 template <class E>
 struct has_enum_names<E, std::void_t<decltype(enum_names<E>::entries)>> : std::true_type {};
-
-constexpr char ascii_lower_char(char c) noexcept { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
-
-constexpr bool equal_ignoring_case(std::string_view a, std::string_view b) noexcept {
-    if (a.size() != b.size()) return false;
-    for (std::size_t k = 0; k < a.size(); ++k)
-        if (ascii_lower_char(a[k]) != ascii_lower_char(b[k])) return false;
-    return true;
-}
 
 }  // namespace detail
 
@@ -93,7 +85,7 @@ template <class E>
 E parse_enum(std::string_view name, std::string_view function = "anima::parse_enum") {
     static_assert(has_enum_names_v<E>, "anima::parse_enum: specialise anima::enum_names for this enum");
     for (const auto& e : enum_names<E>::entries)
-        if (detail::equal_ignoring_case(name, e.name)) return e.value;
+        if (ascii_equal_ignoring_case(name, e.name)) return e.value;
     const std::string what = enum_names<E>::what;
     const bool vowel = !what.empty() && std::string_view("aeiouAEIOU").find(what[0]) != std::string_view::npos;
     throw invalid_argument(std::string(function) + ": '" + detail::escape_for_message(name, 200) + "' is not " +

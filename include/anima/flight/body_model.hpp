@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstddef>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -149,11 +150,18 @@ std::vector<segment_assignment> default_segment_map(const skeleton<T>& sk) {
 
 /// Metres per skeleton unit for the two CMU layouts: 0.056444 for the ASF
 /// conversion (CMU's FAQ: length unit = 1/0.45 inch), 0.01 for the Daz one
-/// (centimetres). Throws for other skeletons.
+/// (centimetres); empty for other skeletons.
 template <class T>
-T default_metres_per_unit(const skeleton<T>& sk) {
+std::optional<T> layout_metres_per_unit(const skeleton<T>& sk) {
     if (sk.find("LowerBack") && sk.find("LeftUpLeg")) return T(0.056444);
     if (sk.find("abdomen") && sk.find("lThigh")) return T(0.01);
+    return std::nullopt;
+}
+
+/// layout_metres_per_unit, or anima::invalid_argument for other skeletons.
+template <class T>
+T default_metres_per_unit(const skeleton<T>& sk) {
+    if (const auto unit = layout_metres_per_unit(sk)) return *unit;
     throw invalid_argument("anima::default_metres_per_unit: unknown skeleton layout (root '" +
                            (sk.empty() ? std::string("none") : sk[0].name) + "'): give metres_per_unit");
 }

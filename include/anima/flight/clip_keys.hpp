@@ -73,8 +73,8 @@ clip_flight_keys<T> flight_keys_from_clip(const clip<T>& c, const clip_flight_pa
 
     body_model_params<T> body = params.body;
     if (!(body.metres_per_unit > T(0))) {
-        if (sk.find("LowerBack") || sk.find("abdomen")) {
-            body.metres_per_unit = default_metres_per_unit(sk);
+        if (const auto unit = layout_metres_per_unit(sk)) {
+            body.metres_per_unit = *unit;
         } else {
             const unit_guess g = guess_units(sk, contacts.up);
             if (!g.confident)
