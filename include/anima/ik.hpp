@@ -12,6 +12,7 @@
 #include <anima/ik/kinematic_tree.hpp>
 #include <anima/ik/learned_inverse.hpp>
 #include <anima/ik/levenberg_marquardt_ik.hpp>
+#include <anima/ik/plant_feet.hpp>
 #include <anima/ik/pose_statistics.hpp>
 #include <anima/ik/solve.hpp>
 #include <anima/ik/solve_with.hpp>

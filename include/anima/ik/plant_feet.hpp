@@ -1,0 +1,276 @@
+// Foot planting: a foot in ground contact stops sliding. Over each contact
+// run the foot is moved back by the horizontal distance its contact point
+// (the stillest of its points near the ground: heel, ball or toe as the
+// foot rolls) has slid since the run began, so the roll of a step is kept and only the slide is
+// taken out; after the run the correction fades out over the swing, where a
+// moved foot is not seen as skate. The legs are solved with clip-level IK
+// (solve_clip_ik): warm-started frame to frame and pulled toward the
+// recorded pose, so nothing but the legs of planted feet changes.
+#pragma once
+
+#include <anima/core/check_argument.hpp>
+#include <anima/core/error.hpp>
+#include <anima/ik/clip_ik.hpp>
+#include <anima/ik/goal.hpp>
+#include <anima/ik/kinematic_tree.hpp>
+#include <anima/ik/solve_with.hpp>
+#include <anima/motion/clip.hpp>
+#include <anima/motion/contacts.hpp>
+#include <anima/motion/forward_kinematics.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace anima {
+
+template <class T>
+struct plant_feet_params {
+    /// How contacts are found when plant_feet is not given them. Height
+    /// alone decides by default: a foot sliding on the ground is what is to
+    /// be planted, and the speed test would call it lifted.
+    contact_params<T> contacts = [] {
+        contact_params<T> p;
+        p.use_speed = false;
+        return p;
+    }();
+    /// Plant only the contact runs that share a frame with one of these
+    /// (a transition's window, the frames around a seam); empty: every run.
+    std::vector<frame_interval> ranges;
+    /// The correction left at the end of a run fades out over this much of
+    /// the swing that follows (at most the whole gap to the foot's next run).
+    T release_seconds = T(0.2);
+    /// A foot is held at most this far (body heights) from where its
+    /// recording puts it: past that it is dragged along, since a leg asked
+    /// to reach further would straighten or flip instead.
+    T max_correction = T(0.1);
+    /// A foot that arrives sliding is caught over this long (the correction
+    /// eases in), not in one frame, which would jerk the knee.
+    T catch_seconds = T(0.05);
+    /// Weight of the foot's recorded world orientation against its position
+    /// (a length, in body heights): the foot keeps its roll.
+    T orientation_weight = T(0.05);
+    ik_solver solver = ik_solver::damped_least_squares;
+    clip_ik_params<T> ik;  ///< per-frame solver settings, pose pull, warm start
+};
+
+template <class T>
+struct plant_feet_result {
+    clip<T> planted;            ///< the input with the planted feet's legs solved again
+    contact_set<T> contacts;    ///< the contacts used
+    std::size_t runs = 0;       ///< contact runs planted
+    std::size_t frames = 0;     ///< frames solved (runs and releases)
+    T largest_error = T(0);     ///< largest foot position error left by the IK, file units
+    T largest_correction = T(0);  ///< largest horizontal correction asked of a foot, file units
+};
+
+namespace detail {
+
+/// A foot has a leg to move when it has a parent and a grandparent (knee
+/// and hip, or whatever the skeleton calls them).
+template <class T>
+bool has_leg(const skeleton<T>& sk, std::size_t foot) {
+    const int knee = sk[foot].parent;
+    return knee >= 0 && sk[static_cast<std::size_t>(knee)].parent >= 0;
+}
+
+/// Whether run r shares a frame with any of the ranges (all when empty).
+inline bool touches(const frame_interval& r, const std::vector<frame_interval>& ranges) {
+    if (ranges.empty()) return true;
+    for (const auto& g : ranges)
+        if (r.first <= g.last && g.first <= r.last) return true;
+    return false;
+}
+
+/// Smooth fade from 1 (s = 0) to 0 (s = 1).
+template <class T>
+T fade_out(T s) {
+    s = std::clamp(s, T(0), T(1));
+    return T(1) - s * s * (T(3) - T(2) * s);
+}
+
+}  // namespace detail
+
+/// The clip with feet in contact planted, using the given contacts (found on
+/// this clip, or built by the caller). A foot too close to the root to have
+/// a leg (it needs a parent and a grandparent) is left as it is. Throws
+/// anima::invalid_argument for contacts of another clip (frame count or
+/// joints) or bad parameters.
+template <class T>
+plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts, const plant_feet_params<T>& params) {
+    using vector3 = Eigen::Matrix<T, 3, 1>;
+    const char* who = "anima::plant_feet";
+    check_non_negative(who, "release_seconds", params.release_seconds);
+    check_non_negative(who, "orientation_weight", params.orientation_weight);
+    check_non_negative(who, "max_correction", params.max_correction);
+    check_non_negative(who, "catch_seconds", params.catch_seconds);
+    const auto& sk = c.skeleton();
+    const std::size_t frames = c.frames();
+    for (const auto& foot : contacts.feet) {
+        if (foot.in_contact.size() != frames)
+            throw invalid_argument(std::string(who) + ": the contacts of foot '" + foot.name + "' cover " +
+                                   std::to_string(foot.in_contact.size()) + " frames, the clip has " +
+                                   std::to_string(frames));
+        if (foot.joint >= sk.size())
+            throw invalid_argument(std::string(who) + ": foot '" + foot.name + "' is joint " +
+                                   std::to_string(foot.joint) + ", the skeleton has " + std::to_string(sk.size()));
+    }
+    plant_feet_result<T> out{c, contacts, 0, 0, T(0), T(0)};
+    if (frames < 2 || contacts.feet.empty()) return out;
+
+    // Recorded world positions of every joint and End Site, and orientations.
+    std::vector<std::vector<vector3>> points(frames);
+    std::vector<global_pose<T>> poses(frames);
+    for (std::size_t f = 0; f < frames; ++f) {
+        forward_kinematics(c, f, poses[f]);
+        points[f] = end_site_positions(sk, poses[f]);
+    }
+    const auto up = static_cast<Eigen::Index>(contacts.up.axis);
+    const auto flat = [&](vector3 v) {
+        v[up] = T(0);
+        return v;
+    };
+    // A foot point is the joint's position (p = 0) or its End Site (p = 1).
+    const auto point = [&](std::size_t f, std::size_t j, int p) -> const vector3& {
+        return p == 0 ? poses[f].positions[j] : points[f][j];
+    };
+    const T reach = params.max_correction * contacts.body_height;
+    const auto catching = static_cast<std::size_t>(std::ceil(params.catch_seconds / c.frame_time() - T(1e-6)));
+    const auto release = static_cast<std::size_t>(std::ceil(params.release_seconds / c.frame_time() - T(1e-6)));
+
+    // Per frame, per foot: the horizontal correction asked (empty: none).
+    std::vector<std::vector<std::optional<vector3>>> correction(
+        frames, std::vector<std::optional<vector3>>(contacts.feet.size()));
+    // The foot's points as foot_skate sees them: each point's rise above its
+    // own standing height and its speed, to pick the one that carries the
+    // weight in each frame.
+    std::vector<std::size_t> foot_joints;
+    for (const auto& foot : contacts.feet) foot_joints.push_back(foot.joint);
+    const auto measured = detail::measure_feet(c, foot_joints, contacts.lead_in, contacts, params.contacts);
+    for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
+        const auto& foot = contacts.feet[i];
+        if (!detail::has_leg(sk, foot.joint)) continue;
+        std::vector<std::pair<std::size_t, int>> foot_points;  // (joint, End Site?) in measure_feet's order
+        for (const std::size_t j : detail::subtree(sk, foot.joint)) {
+            foot_points.emplace_back(j, 0);
+            if (sk[j].end_site) foot_points.emplace_back(j, 1);
+        }
+        const auto& fp = measured[i];
+        const auto& runs = foot.contacts;
+        for (std::size_t r = 0; r < runs.size(); ++r) {
+            if (!detail::touches(runs[r], params.ranges)) continue;
+            ++out.runs;
+            vector3 slid = vector3::Zero();
+            correction[runs[r].first][i] = vector3::Zero();
+            for (std::size_t f = runs[r].first + 1; f <= runs[r].last; ++f) {
+                // The stillest point near the ground carries the foot's
+                // weight (heel, ball or toe as it rolls): its slide is what
+                // foot_skate measures, and what is summed and taken out.
+                const std::size_t row = (f - contacts.lead_in) * fp.points;
+                std::size_t best = 0;
+                T best_speed = std::numeric_limits<T>::infinity();
+                for (std::size_t q = 0; q < fp.points; ++q) {
+                    const bool low = fp.rise[row + q] <= params.contacts.height_off;
+                    const T speed = low ? fp.speed[row + q] : std::numeric_limits<T>::max();
+                    if (speed < best_speed) {
+                        best_speed = speed;
+                        best = q;
+                    }
+                }
+                const auto [j, tip] = foot_points[best];
+                slid += flat(point(f, j, tip) - point(f - 1, j, tip));
+                if (slid.norm() > reach) slid *= reach / slid.norm();
+                const std::size_t k = f - runs[r].first;
+                const T ease = k >= catching ? T(1) : T(1) - detail::fade_out(static_cast<T>(k) / static_cast<T>(catching));
+                correction[f][i] = vector3(-slid * ease);
+                out.largest_correction = std::max(out.largest_correction, slid.norm());
+            }
+            // Fade the last correction out over the swing to the next run.
+            const std::size_t next = r + 1 < runs.size() ? runs[r + 1].first : frames;
+            const std::size_t span = std::min(release, next - runs[r].last - 1);
+            for (std::size_t k = 1; k <= span; ++k)
+                correction[runs[r].last + k][i] =
+                    vector3(-slid * detail::fade_out(static_cast<T>(k) / static_cast<T>(span + 1)));
+        }
+    }
+
+    // The legs of the feet to plant move; everything else is fixed.
+    kinematic_tree<T> tree(sk);
+    for (std::size_t j = 0; j < sk.size(); ++j)
+        if (tree.kind(j) != ik_joint_kind::fixed) tree.set_fixed(j);
+    for (const auto& foot : contacts.feet) {
+        if (!detail::has_leg(sk, foot.joint)) continue;
+        const auto knee = static_cast<std::size_t>(sk[foot.joint].parent);
+        const auto hip = static_cast<std::size_t>(sk[knee].parent);
+        for (const std::size_t j : {hip, knee, foot.joint})
+            if (sk.has_rotation_channels(j)) tree.set_ball(j);
+    }
+    const T orientation_scale = params.orientation_weight * contacts.body_height;
+    std::vector<frame_goals<T>> goals;
+    for (std::size_t f = 0; f < frames; ++f) {
+        frame_goals<T> g{f, {}};
+        for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
+            if (!correction[f][i]) continue;
+            const std::size_t j = contacts.feet[i].joint;
+            // A target the leg cannot reach is brought within reach along
+            // the line from the hip: a leg asked past straight flips its knee.
+            const auto knee = static_cast<std::size_t>(sk[j].parent);
+            const auto hip = static_cast<std::size_t>(sk[knee].parent);
+            const vector3& hip_at = poses[f].positions[hip];
+            vector3 target = poses[f].positions[j] + *correction[f][i];
+            const T reach_leg = std::max(T(0.98) * (sk[knee].offset.norm() + sk[j].offset.norm()),
+                                         (poses[f].positions[j] - hip_at).norm());
+            if ((target - hip_at).norm() > reach_leg) target = hip_at + (target - hip_at) * (reach_leg / (target - hip_at).norm());
+            ik_goal<T> goal;
+            goal.joint = j;
+            goal.kind = orientation_scale > T(0) ? ik_goal_kind::pose : ik_goal_kind::position;
+            goal.position = target;
+            goal.orientation = poses[f].orientations[j];
+            if (orientation_scale > T(0)) goal.orientation_scale = orientation_scale;
+            g.goals.push_back(goal);
+        }
+        if (!g.goals.empty()) goals.push_back(std::move(g));
+    }
+    if (goals.empty()) return out;
+    const ik_solver solver = params.solver;
+    auto solved = solve_clip_ik(
+        tree, c, goals,
+        [solver](const kinematic_tree<T>& t, const std::vector<ik_goal<T>>& gs, const ik_vector<T>& start,
+                 const ik_params<T>& p) { return solve_ik_with(solver, t, gs, start, p); },
+        params.ik);
+    out.planted = std::move(solved.edited);
+    out.frames = solved.frames.size();
+    out.largest_error = solved.largest_error;
+    return out;
+}
+
+/// The clip with feet in contact planted, contacts found on the clip with
+/// params.contacts (find_contacts' errors: no feet, no height).
+template <class T>
+plant_feet_result<T> plant_feet(const clip<T>& c, const plant_feet_params<T>& params = {}) {
+    return plant_feet(c, find_contacts(c, params.contacts), params);
+}
+
+/// Whether plant_feet(c, params) finds feet to plant: the clip has frames,
+/// its figure a height along the up axis, and feet (named in
+/// params.contacts.feet, or found by find_feet). For pipelines that plant
+/// by default and must pass over a prop or a figure without legs.
+template <class T>
+bool has_feet_to_plant(const clip<T>& c, const plant_feet_params<T>& params = {}) {
+    if (c.frames() < 2 || c.joints() == 0) return false;
+    const signed_axis up = params.contacts.up ? *params.contacts.up : guess_up_axis(c.skeleton()).up;
+    if (!(figure_height(c.skeleton(), up) > T(0))) return false;
+    if (!params.contacts.feet.empty()) return true;
+    for (const std::size_t j : find_feet(c.skeleton(), up))
+        if (detail::has_leg(c.skeleton(), j)) return true;
+    return false;
+}
+
+}  // namespace anima

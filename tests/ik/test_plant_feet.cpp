@@ -1,0 +1,155 @@
+// anima::plant_feet: the bundled walk with its hips swayed sideways (every
+// planted foot slides with them) is planted again: the slide of the feet's
+// contact points goes, the joints above the legs do not move, frames away
+// from the planted runs are left as they were, float and double.
+#include "../test_support.hpp"
+
+#include <anima/bvh/reader.hpp>
+#include <anima/ik/plant_feet.hpp>
+#include <anima/motion/contacts.hpp>
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace {
+
+/// Height-only contacts: what plant_feet plants and what a sliding clip's
+/// skate is measured on.
+template <class T>
+anima::contact_params<T> height_only() {
+    anima::contact_params<T> p;
+    p.use_speed = false;
+    return p;
+}
+
+/// The bundled walk, with the root moved sideways by a 1.3 Hz sway of
+/// `amplitude` file units: the feet, hanging from the root, slide with it.
+template <class T>
+anima::clip<T> swayed_walk(T amplitude) {
+    auto c = anima::read_bvh<T>(anima_test::bundled("walk_cmu31_02_01.bvh"));
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        auto p = c.root_position(f);
+        p.x() += amplitude * T(std::sin(2 * 3.14159265358979 * 1.3 * static_cast<double>(f) * c.frame_time()));
+        c.set_root_position(f, p);
+    }
+    return c;
+}
+
+template <class T>
+T skate_median(const anima::clip<T>& c) {
+    return anima::foot_skate(anima::find_contacts(c, height_only<T>())).median;
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("plant_feet takes the slide out of a swayed walk and touches nothing above the legs", T, float,
+                   double) {
+    const auto original = anima::read_bvh<T>(anima_test::bundled("walk_cmu31_02_01.bvh"));
+    const auto swayed = swayed_walk<T>(T(1));  // 1 file unit: about 5 cm
+    const T before = skate_median(swayed), recorded = skate_median(original);
+    REQUIRE(before > T(2) * recorded);  // the sway is a real slide
+
+    const auto result = anima::plant_feet(swayed);
+    CHECK(result.runs >= 4);
+    CHECK(result.frames > 0);
+    CHECK(result.largest_correction > T(0.5));
+    const T after = skate_median(result.planted);
+    MESSAGE("skate median: recorded " << recorded << ", swayed " << before << ", planted " << after);
+    CHECK(after < T(0.5) * before);
+    CHECK(after <= T(1.5) * recorded);  // the smoothing lets a little through where runs begin
+
+    // Only leg joints change; the root and the upper body are as they were.
+    const auto& sk = swayed.skeleton();
+    std::vector<bool> leg(sk.size(), false);
+    for (const auto& foot : result.contacts.feet) {
+        const auto knee = static_cast<std::size_t>(sk[foot.joint].parent);
+        leg[foot.joint] = leg[knee] = leg[static_cast<std::size_t>(sk[knee].parent)] = true;
+    }
+    bool others_same = true;
+    for (std::size_t f = 0; f < swayed.frames(); ++f)
+        for (std::size_t j = 0; j < sk.size(); ++j)
+            if (!leg[j]) others_same = others_same && result.planted.rotation(f, j).coeffs() == swayed.rotation(f, j).coeffs();
+    CHECK(others_same);
+    for (std::size_t f = 0; f < swayed.frames(); ++f) REQUIRE(result.planted.root_position(f) == swayed.root_position(f));
+    // Nothing is NaN.
+    for (std::size_t f = 0; f < swayed.frames(); ++f)
+        for (std::size_t j = 0; j < sk.size(); ++j) REQUIRE(result.planted.rotation(f, j).coeffs().allFinite());
+}
+
+TEST_CASE_TEMPLATE("plant_feet within ranges leaves the frames of other runs as they were", T, float, double) {
+    const auto swayed = swayed_walk<T>(T(1));
+    const auto contacts = anima::find_contacts(swayed, height_only<T>());
+    // The first contact run of the first foot, and nothing else.
+    const auto& runs = contacts.feet.front().contacts;
+    REQUIRE(runs.size() >= 3);
+    anima::plant_feet_params<T> p;
+    p.ranges = {runs[1]};
+    const auto result = anima::plant_feet(swayed, contacts, p);
+    CHECK(result.runs >= 1);
+    // Frames before the range's run (and before any other foot's run that
+    // touches it) are untouched.
+    std::size_t earliest = runs[1].first;
+    for (const auto& foot : contacts.feet)
+        for (const auto& r : foot.contacts)
+            if (r.first <= runs[1].last && runs[1].first <= r.last) earliest = std::min(earliest, r.first);
+    for (std::size_t f = 0; f < earliest; ++f)
+        for (std::size_t j = 0; j < swayed.joints(); ++j)
+            REQUIRE(result.planted.rotation(f, j).coeffs() == swayed.rotation(f, j).coeffs());
+    // and the run itself moved.
+    bool moved = false;
+    for (std::size_t f = runs[1].first + 1; f <= runs[1].last && !moved; ++f)
+        moved = result.planted.rotation(f, contacts.feet.front().joint).coeffs() !=
+                swayed.rotation(f, contacts.feet.front().joint).coeffs();
+    CHECK(moved);
+}
+
+TEST_CASE_TEMPLATE("plant_feet: short clips and bad input", T, float, double) {
+    const auto walk = anima::read_bvh<T>(anima_test::bundled("walk_cmu31_02_01.bvh"));
+    SUBCASE("a one-frame clip comes back as it was") {
+        const auto one = walk.slice(0, 1);
+        anima::contact_set<T> none;
+        const auto r = anima::plant_feet(one, none, {});
+        CHECK(r.runs == 0);
+        CHECK(r.planted.frames() == 1);
+    }
+    SUBCASE("contacts of another clip") {
+        auto contacts = anima::find_contacts(walk, height_only<T>());
+        contacts.feet.front().in_contact.pop_back();
+        const auto message = anima_test::invalid_argument_message([&] { (void)anima::plant_feet(walk, contacts, {}); });
+        CHECK(anima_test::contains(message, "anima::plant_feet"));
+        CHECK(anima_test::contains(message, "frames"));
+    }
+    SUBCASE("a foot without a leg is left as it is") {
+        auto contacts = anima::find_contacts(walk, height_only<T>());
+        contacts.feet.resize(1);
+        contacts.feet.front().joint = 0;  // the root: no parent
+        contacts.feet.front().name = walk.skeleton()[0].name;
+        const auto r = anima::plant_feet(walk, contacts, {});
+        CHECK(r.frames == 0);
+        for (std::size_t f = 0; f < walk.frames(); ++f)
+            for (std::size_t j = 0; j < walk.joints(); ++j)
+                REQUIRE(r.planted.rotation(f, j).coeffs() == walk.rotation(f, j).coeffs());
+        contacts.feet.front().joint = walk.joints();
+        const auto message = anima_test::invalid_argument_message([&] { (void)anima::plant_feet(walk, contacts, {}); });
+        CHECK(anima_test::contains(message, "the skeleton has"));
+    }
+    SUBCASE("has_feet_to_plant") {
+        CHECK(anima::has_feet_to_plant(walk));
+        CHECK_FALSE(anima::has_feet_to_plant(walk.slice(0, 1)));
+        anima::skeleton<T> prop;
+        prop.add_joint("Box", -1, Eigen::Matrix<T, 3, 1>::Zero());
+        CHECK_FALSE(anima::has_feet_to_plant(anima::clip<T>(prop, 10, T(1) / 30)));
+    }
+    SUBCASE("a negative release") {
+        anima::plant_feet_params<T> p;
+        p.release_seconds = T(-1);
+        const auto message = anima_test::invalid_argument_message([&] { (void)anima::plant_feet(walk, p); });
+        CHECK(anima_test::contains(message, "release_seconds"));
+    }
+}
