@@ -1,6 +1,8 @@
 // Compares the variable-timing transition with a direct cut, a crossfade and
 // inertialization on real clip pairs: transition length, peak joint angular
-// acceleration and jerk, peak root acceleration and foot slide, as a Markdown
+// acceleration and jerk, peak root acceleration, foot slide and foot skate
+// (window against the clips' own), each method also with its feet planted
+// (plant_transition_feet), as a Markdown
 // table; with an output folder it also plots one joint's angle through each
 // transition of the first pair (transition_plot.svg).
 //
@@ -131,7 +133,8 @@ int main(int argc, char** argv) {
     }
     try {
         std::printf("| pair | method | length (s) | peak ang. acc. (rad/s²) | peak ang. jerk (rad/s³) | "
-                    "peak root acc. (m/s²) | foot slide (m/s) |\n|---|---|---:|---:|---:|---:|---:|\n");
+                    "peak root acc. (m/s²) | foot slide (m/s) | skate: window / clips |\n"
+                    "|---|---|---:|---:|---:|---:|---:|---:|\n");
         bool plotted = false;
         for (const auto& p : pairs) {
             const auto a = anima::read_bvh(dir + "/" + p.a);
@@ -146,13 +149,18 @@ int main(int argc, char** argv) {
                 {"crossfade 0.3 s", anima::crossfade(a, p.at, b, p.to, 0.3)},
                 {"inertialize (hl 0.1 s)", anima::inertialize(a, p.at, b, p.to, 0.1)},
             };
+            // Each method as it comes, then with its feet planted through the window.
+            for (std::size_t i = 0, n = runs.size(); i < n; ++i)
+                runs.push_back({runs[i].name + ", feet planted", anima::plant_transition_feet(runs[i].joined)});
             for (const auto& r : runs) {
                 const auto q = anima::measure_transition(r.joined, roles, up, mpu);
-                std::printf("| %s (%s → %s) | %s | %.3f | %.0f | %.3g | %.1f | %.2f |\n", p.label,
+                std::printf("| %s (%s → %s) | %s | %.3f | %.0f | %.3g | %.1f | %.2f | %.2f× |\n", p.label,
                             std::string(anima::to_string(t.class_a.type)).c_str(),
                             std::string(anima::to_string(t.class_b.type)).c_str(), r.name.c_str(), q.length,
-                            q.peak_angular_acceleration, q.peak_angular_jerk, q.peak_root_acceleration, q.foot_slide);
+                            q.peak_angular_acceleration, q.peak_angular_jerk, q.peak_root_acceleration, q.foot_slide,
+                            q.foot_skate_ratio);
             }
+            runs.resize(runs.size() / 2);  // the plot shows the methods as they come
             if (!out_dir.empty() && !plotted) {
                 const std::size_t joint = a.skeleton().find("rThigh").value_or(a.skeleton().find("RightUpLeg").value_or(1));
                 write_plot(out_dir + "/transition_plot.svg",

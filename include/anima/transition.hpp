@@ -6,5 +6,6 @@
 #include <anima/transition/classify.hpp>
 #include <anima/transition/metrics.hpp>
 #include <anima/transition/placement.hpp>
+#include <anima/transition/plant_transition_feet.hpp>
 #include <anima/transition/timing.hpp>
 #include <anima/transition/variable_timing_transition.hpp>

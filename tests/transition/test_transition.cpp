@@ -407,6 +407,7 @@ TEST_CASE("identical poses: T is the minimum and the in-betweens hold the pose")
         CAPTURE(min_duration);
         anima::transition_params p;
         p.timing.min_duration = min_duration;
+        p.continuous_root = false;  // Eq 12 as printed
         const auto t = anima::make_transition(a, trigger, a, trigger, p);
         CHECK(t.timing.duration == min_duration);
         CHECK(t.timing.unclamped < 1e-12);
@@ -434,19 +435,93 @@ TEST_CASE("identical poses: T is the minimum and the in-betweens hold the pose")
         CHECK(joined.motion.frames() == trigger + 1 + t.frames.frames() + (a.frames() - trigger));
     }
 
-    // A root moving exactly on a horizontal parabola is continued exactly.
+    // A root moving exactly on a horizontal parabola: Eq 12 continues it
+    // exactly; the Hermite path ends at the same point but with the velocity
+    // B has at its start (frame 40's, measured exactly on a parabola).
     clipd glide = held(a, 30, 80);
     const vec3 start = glide.root_position(0), v(150, 0, -40), acc(-60, 0, 90);
     const auto on_path = [&](double t) { return vec3(start + t * v + 0.5 * t * t * acc); };
     for (std::size_t f = 0; f < glide.frames(); ++f) glide.set_root_position(f, on_path(dt * static_cast<double>(f)));
-    const auto t = anima::make_transition(glide, 40, glide, 40);
-    CHECK((t.root_at_trigger.velocity - (v + 40 * dt * acc)).norm() < 1e-7);
-    CHECK((t.root_at_trigger.acceleration - acc).norm() < 1e-6);
-    double root_error = 0;
-    for (std::size_t k = 1; k <= t.frames.frames(); ++k)
-        root_error = std::max(root_error, (t.frames.root_position(k - 1) - on_path(dt * static_cast<double>(40 + k))).norm());
-    CHECK(root_error < 1e-8);
-    CHECK((t.placed_b.root_position(0) - on_path(dt * 40 + t.duration)).norm() < 1e-8);
+    for (const bool continuous : {false, true}) {
+        CAPTURE(continuous);
+        anima::transition_params p;
+        p.continuous_root = continuous;
+        const auto t = anima::make_transition(glide, 40, glide, 40, p);
+        CHECK((t.root_at_trigger.velocity - (v + 40 * dt * acc)).norm() < 1e-7);
+        CHECK((t.root_at_trigger.acceleration - acc).norm() < 1e-6);
+        const vec3 v_trigger = v + 40 * dt * acc, p0 = on_path(40 * dt), p1 = on_path(40 * dt + t.duration);
+        if (continuous) CHECK((t.root_velocity_at_b - v_trigger).norm() < 1e-6);
+        const auto expected = [&](double time) {
+            if (!continuous) return on_path(40 * dt + time);
+            const double T = t.duration, s = time / T;
+            return vec3((2 * s * s * s - 3 * s * s + 1) * p0 + (s * s * s - 2 * s * s + s) * T * v_trigger +
+                        (-2 * s * s * s + 3 * s * s) * p1 + (s * s * s - s * s) * T * v_trigger);
+        };
+        double root_error = 0;
+        for (std::size_t k = 1; k <= t.frames.frames(); ++k)
+            root_error = std::max(root_error, (t.frames.root_position(k - 1) - expected(dt * static_cast<double>(k))).norm());
+        CHECK(root_error < 1e-8);
+        CHECK((t.placed_b.root_position(0) - on_path(dt * 40 + t.duration)).norm() < 1e-8);
+    }
+}
+
+TEST_CASE("gravity only where the body is in the air: no hop between standing frames of a jump clip") {
+    const auto& r = run<double>();
+    // 0.5 s standing, a 0.6 s parabolic hop 0.5 m high, 0.5 s standing.
+    clipd hop = held(r, 10, 192);
+    for (std::size_t f = 60; f < 132; ++f) {
+        const double u = static_cast<double>(f - 60) / 72;
+        hop.set_root_position(f, hop.root_position(f) + 4 * 0.5 * 100 * u * (1 - u) * up);
+    }
+    const auto cls = anima::classify_motion(hop, anima::joint_roles(hop.skeleton()));
+    REQUIRE(cls.type == motion_class::space_flight);
+    REQUIRE(cls.airborne.size() == 1);
+    CHECK(cls.airborne[0].first >= 60);
+    CHECK(cls.airborne[0].first <= 70);
+    CHECK(cls.airborne[0].last >= 121);
+    CHECK(cls.airborne[0].last <= 131);
+
+    // Standing to standing: Eq 12, and the root stays at standing height.
+    const auto ground = anima::make_transition(hop, 20, hop, 170);
+    CHECK_FALSE(ground.flight);
+    double highest = 0;
+    for (std::size_t k = 0; k < ground.frames.frames(); ++k)
+        highest = std::max(highest, (ground.frames.root_position(k) - hop.root_position(20)).dot(up));
+    CHECK(highest < 1e-9);  // the held pose's root does not move: no lift at all
+    // From the air, or into it: Eq 13.
+    CHECK(anima::make_transition(hop, 96, hop, 170).flight);
+    CHECK(anima::make_transition(hop, 20, hop, 96).flight);
+}
+
+TEST_CASE("on the ground the root meets B's velocity where B starts; Eq 12 leaves it jumping") {
+    // The walk pair: frame 100 -> frame 250 of the 31-joint walk.
+    const auto& w = walk31();
+    const auto velocity_jump = [&](bool continuous, double& start_jump) {
+        anima::transition_params p;
+        p.continuous_root = continuous;
+        const auto t = anima::make_transition(w, 100, w, 250, p);
+        REQUIRE_FALSE(t.flight);
+        const auto j = anima::join(w, 100, t);
+        const auto& m = j.motion;
+        const auto second = [&](std::size_t f) {
+            return (m.root_position(f + 1) - 2 * m.root_position(f) + m.root_position(f - 1)).norm();
+        };
+        start_jump = second(j.start_frame);
+        // The path is one cubic: its fourth differences vanish inside the window.
+        if (continuous && j.end_frame - j.start_frame > 5)
+            for (std::size_t f = j.start_frame + 2; f + 2 <= j.end_frame; ++f) {
+                const vec3 d4 = m.root_position(f - 2) - 4 * m.root_position(f - 1) + 6 * m.root_position(f) -
+                                4 * m.root_position(f + 1) + m.root_position(f + 2);
+                CHECK(d4.norm() < 1e-9 * m.root_position(f).norm() + 1e-9);
+            }
+        return second(j.end_frame);
+    };
+    double start_hermite = 0, start_eq12 = 0;
+    const double hermite = velocity_jump(true, start_hermite), eq12 = velocity_jump(false, start_eq12);
+    MESSAGE("root second difference at B's start: Hermite " << hermite << ", Eq 12 " << eq12);
+    CHECK(eq12 > 4 * hermite);
+    // Both start from A's fitted velocity: the same at the trigger.
+    CHECK(start_hermite < 4 * start_eq12 + 1e-9);
 }
 
 TEST_CASE("variable timing: a larger pose difference takes longer at the same speeds") {

@@ -15,6 +15,7 @@
 
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
+#include <anima/motion/contacts.hpp>
 #include <anima/motion/figure.hpp>
 #include <anima/motion/finite_difference.hpp>
 #include <anima/motion/forward_kinematics.hpp>
@@ -54,6 +55,10 @@ struct motion_classification {
     double hip_rise = 0;          ///< m, highest root height above its median
     signed_axis up;
     double metres_per_unit = 1;
+    /// Space flight only: the airborne phases (no foot in contact, by
+    /// find_contacts), so a transition applies gravity only where the body
+    /// is in the air.
+    std::vector<frame_interval> airborne;
 };
 
 namespace detail {
@@ -119,8 +124,13 @@ motion_classification classify_motion(const clip<T>& c, const std::vector<joint_
         out.longest_airborne = static_cast<double>(longest) * static_cast<double>(c.frame_time());
     }
 
-    if (out.longest_airborne >= params.flight_min_time && out.hip_rise >= params.flight_hip_rise && !feet.empty())
+    if (out.longest_airborne >= params.flight_min_time && out.hip_rise >= params.flight_hip_rise && !feet.empty()) {
         out.type = motion_class::space_flight;
+        contact_params<T> cp;
+        cp.up = out.up;
+        for (std::size_t j : feet) cp.feet.push_back(c.skeleton()[j].name);
+        out.airborne = find_contacts(c, cp).airborne_phases;
+    }
     else if (out.foot_range < params.on_spot_distance)
         out.type = motion_class::on_the_spot;
     else

@@ -1,10 +1,12 @@
 // Measures of how smooth a transition is, for comparing methods on the same
 // clips: its length, the peaks of joint angular acceleration and jerk and of
-// root acceleration around it, and how much the supporting foot slides.
+// root acceleration around it, and how much the supporting foot slides
+// (and how much feet in contact skate there, against the clips' own skate).
 #pragma once
 
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
+#include <anima/motion/contacts.hpp>
 #include <anima/motion/figure.hpp>
 #include <anima/motion/finite_difference.hpp>
 #include <anima/motion/forward_kinematics.hpp>
@@ -28,6 +30,12 @@ struct transition_quality {
     T peak_angular_jerk = 0;          ///< rad/s^3
     T peak_root_acceleration = 0;     ///< m/s^2
     T foot_slide = 0;                 ///< m/s, mean horizontal speed of the lowest foot joint
+    /// Foot skate (motion/contacts.hpp, contacts by height alone so that a
+    /// sliding foot counts): median horizontal speed of feet in contact, body
+    /// heights per second, over the measured frames and over the rest of the
+    /// joined clip (the clips' own), and their ratio (0 when either has no
+    /// contact).
+    T foot_skate_window = 0, foot_skate_clips = 0, foot_skate_ratio = 0;
 };
 
 /// Measures a joined clip over its transition plus `margin` frames on each
@@ -92,6 +100,18 @@ transition_quality<T> measure_transition(const joined_clip<T>& joined, const std
         }
         q.foot_slide = sum / static_cast<T>(n) * m;
     }
+
+    contact_params<T> cp;
+    cp.up = up;
+    cp.use_speed = false;
+    const auto contacts = find_contacts(c, cp);
+    std::vector<T> inside, outside;
+    for (const auto& foot : contacts.feet)
+        for (std::size_t f = 0; f < c.frames(); ++f)
+            if (foot.in_contact[f]) (f >= first && f <= last ? inside : outside).push_back(foot.speed[f]);
+    q.foot_skate_window = detail::summarise_skate(std::move(inside)).median;
+    q.foot_skate_clips = detail::summarise_skate(std::move(outside)).median;
+    q.foot_skate_ratio = q.foot_skate_window > 0 && q.foot_skate_clips > 0 ? q.foot_skate_window / q.foot_skate_clips : T(0);
     return q;
 }
 

@@ -8,9 +8,14 @@
 //      control points from the neighbouring frames of A and B, the others by
 //      slerp; the parameter eases in and out unless both clips are on the spot;
 //   4. move the root along p0 + t v + t^2 a / 2 (Eq 12), or p0 + t v + k_g t^2 g
-//      when either clip is space flight (Eq 13), with v and a measured at the
-//      trigger; the vertical part is corrected linearly in t to land on B's
-//      start height, so a flight path stays a parabola with the given gravity;
+//      when the body is in the air at either end (Eq 13: A's trigger frame or
+//      B's start frame in an airborne phase of a space-flight clip, not just
+//      any frame of such a clip), with v and a measured at the trigger; the
+//      vertical part is corrected linearly in t to land on B's start height,
+//      so a flight path stays a parabola with the given gravity. On the
+//      ground the path by default also meets B's root velocity where B
+//      starts (a cubic Hermite through Eq 12's end point, a departure from
+//      the paper: Eq 12 alone leaves the root's velocity jumping there);
 //   5. place B where the transition ends, heading aligned: no jump.
 // make_transition returns all of it with a placed copy of B; for a game loop,
 // make_transition_into writes the same into storage the caller keeps (and
@@ -70,6 +75,11 @@ struct transition_params {
     double gravity = 9.81;               ///< m/s^2, along -up
     double gravity_factor = 0.5;         ///< k_g of Eq 13; 0.5 is free fall
     double root_window = 0.25;           ///< s of A fitted (quadratic) for the root's v and a at the trigger
+    /// On the ground, the root path also meets placed B's root velocity at
+    /// B's start (cubic Hermite from A's trigger position and velocity to
+    /// Eq 12's end point and B's velocity). false: Eq 12 as printed, whose
+    /// velocity jumps where B starts. Flight paths are Eq 13 either way.
+    bool continuous_root = true;
 };
 
 /// A transition without a copy of clip B: what make_transition_into writes
@@ -82,8 +92,11 @@ struct transition_frames {
     std::vector<interpolation> methods;  ///< per joint, as used
     easing parameter = easing::ease_in_out;
     motion_classification class_a, class_b;
-    bool flight = false;                 ///< Eq 13 used for the root
+    bool flight = false;                 ///< Eq 13 used for the root: the body is in the air at an end
     point_motion<T> root_at_trigger;     ///< v and a of Eq 12-13
+    /// Placed B's root velocity at its start: the Hermite path's end
+    /// velocity (zero when the path is Eq 12 or 13).
+    Eigen::Matrix<T, 3, 1> root_velocity_at_b = Eigen::Matrix<T, 3, 1>::Zero();
     clip_placement<T> placement;         ///< where B goes: from its start frame, heading aligned, at the end
 };
 
@@ -145,6 +158,31 @@ void check_transition(const clip<T>& a, std::size_t trigger, const clip<T>& b, s
         throw invalid_argument(std::string(who) + ": large_angle and gravity must be non-negative");
 }
 
+/// Whether frame f of a clip with this classification is in an airborne
+/// phase (only space-flight clips have them).
+inline bool airborne_at(const motion_classification& m, std::size_t f) {
+    if (m.type != motion_class::space_flight) return false;
+    for (const auto& phase : m.airborne)
+        if (f >= phase.first && f <= phase.last) return true;
+    return false;
+}
+
+/// The root's velocity at frame f of c from the frames after it: the
+/// one-sided second-order difference over steps of about 25 ms (first order,
+/// or zero, when the clip ends sooner).
+template <class T>
+Eigen::Matrix<T, 3, 1> root_velocity_ahead(const clip<T>& c, std::size_t f) {
+    const T dt = c.frame_time();
+    const std::size_t left = c.frames() - 1 - f;
+    std::size_t k = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(T(0.025) / dt)));
+    if (2 * k <= left)
+        return (T(-3) * c.root_position(f) + T(4) * c.root_position(f + k) - c.root_position(f + 2 * k)) /
+               (T(2) * static_cast<T>(k) * dt);
+    k = std::min(k, left);
+    if (k == 0) return Eigen::Matrix<T, 3, 1>::Zero();
+    return (c.root_position(f + k) - c.root_position(f)) / (static_cast<T>(k) * dt);
+}
+
 /// Whether b's frame time differs from a's (more than rounding).
 template <class T>
 bool other_frame_time(const clip<T>& a, const clip<T>& b) {
@@ -168,7 +206,7 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
     const vec3 up_vec = axis_vector<T>(up);
     const T dt = a.frame_time();
     const bool spot = out.class_a.type == motion_class::on_the_spot && out.class_b.type == motion_class::on_the_spot;
-    out.flight = out.class_a.type == motion_class::space_flight || out.class_b.type == motion_class::space_flight;
+    out.flight = airborne_at(out.class_a, trigger) || airborne_at(out.class_b, b_start);
     out.parameter = params.parameter ? *params.parameter : (spot ? easing::linear : easing::ease_in_out);
 
     // Heading and timing.
@@ -192,6 +230,8 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
     const T end_height = b0.dot(up_vec), predicted_height = end.dot(up_vec);
     end += (end_height - predicted_height) * up_vec;  // keep B's own height above its ground
     out.placement = clip_placement<T>{b_start, turn, b0, end};
+    const bool hermite = translated && params.continuous_root && !out.flight;
+    out.root_velocity_at_b = hermite ? vec3(turn * root_velocity_ahead(b, b_start)) : vec3::Zero();
 
     // Per-joint methods.
     out.methods.resize(nj);
@@ -252,10 +292,16 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
     }
     if (translated)
         for (std::size_t k = 1; k < steps; ++k) {
-            // Linear-in-t vertical correction: keeps Eq 13's second derivative.
             const T t = dt * static_cast<T>(k);
-            vec3 p = predicted(t);
-            p += (t / out.duration) * (end_height - predicted_height) * up_vec;
+            vec3 p;
+            if (hermite) {
+                const T s = t / out.duration, s2 = s * s, s3 = s2 * s;
+                p = (T(2) * s3 - T(3) * s2 + T(1)) * p0 + (s3 - T(2) * s2 + s) * out.duration * v +
+                    (T(-2) * s3 + T(3) * s2) * end + (s3 - s2) * out.duration * out.root_velocity_at_b;
+            } else {
+                // Linear-in-t vertical correction: keeps Eq 13's second derivative.
+                p = predicted(t) + (t / out.duration) * (end_height - predicted_height) * up_vec;
+            }
             out.frames.set_root_position(k - 1, p);
         }
 }

@@ -1,0 +1,25 @@
+// Feet planted through a transition: a foot on the ground when A hands over
+// and still on it in B (or in the frames between) is held where it is, and
+// the correction is released over the swing that follows (ik/plant_feet.hpp).
+// Works on any joined clip: the variable-timing transition and the cut,
+// crossfade and inertialization baselines alike.
+#pragma once
+
+#include <anima/ik/plant_feet.hpp>
+#include <anima/transition/variable_timing_transition.hpp>
+
+namespace anima {
+
+/// The joined clip with the contact runs that reach the transition (frames
+/// start_frame..end_frame) planted; params.ranges is set here. Contacts are
+/// found on the joined clip with params.contacts (height alone by default,
+/// so a foot sliding on the ground through the window counts as planted).
+template <class T>
+joined_clip<T> plant_transition_feet(const joined_clip<T>& joined, plant_feet_params<T> params = {}) {
+    params.ranges = {frame_interval{joined.start_frame, joined.end_frame}};
+    joined_clip<T> out = joined;
+    out.motion = plant_feet(joined.motion, params).planted;
+    return out;
+}
+
+}  // namespace anima
