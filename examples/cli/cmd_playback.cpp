@@ -26,7 +26,7 @@ struct playback_options {
     std::size_t frames = 0, start = 0;
     std::uint64_t seed = 1;
     double gain = 1.25, penalty = 0.2;
-    bool fixed = false, video_texture = false, json = false;
+    bool fixed = false, video_texture = false, json = false, plant_feet = false;
     CLI::Option* start_opt = nullptr;
 };
 
@@ -60,7 +60,8 @@ void run_playback(const playback_options& o) {
     json out = {{"input", o.input}, {"mode", mode}, {"seed", o.seed}, {"root", o.root},
                 {"first", m.first}, {"last", last}, {"frames", o.frames}, {"frame_time", dt}};
     std::vector<std::size_t> stream;
-    std::string summary;  // the text lines about turns or jumps
+    std::string summary;               // the text lines about turns or jumps
+    std::vector<std::size_t> events;  // output frames of the turns or jumps: feet are planted there
     if (o.video_texture) {
         const auto table = anima::video_texture_jumps(m.features, dt);
         anima::video_texture_playback<double> playback(table, o.seed, start);
@@ -68,6 +69,7 @@ void run_playback(const playback_options& o) {
         out["metric"] = "l2";
         out["sigma"] = table.sigma;
         out["jumps"] = playback.jumps();
+        events = playback.jumps();
         summary = std::to_string(playback.jumps().size()) + " jumps" +
                   (playback.jumps().empty() ? "" : " (after output frames " + some_positions(playback.jumps()) + ")");
     } else {
@@ -103,6 +105,7 @@ void run_playback(const playback_options& o) {
         out["candidates"] = candidates;
         out["span"] = {m.first + playback.first_turning_frame(), m.first + playback.last_turning_frame()};
         out["turns"] = playback.turns();
+        events = playback.turns();
         summary = std::to_string(r.candidates.size()) + " turning candidates (playback stays within frames " +
                   std::to_string(m.first + playback.first_turning_frame()) + ".." +
                   std::to_string(m.first + playback.last_turning_frame()) + "), " +
@@ -123,7 +126,17 @@ void run_playback(const playback_options& o) {
         anima::resequence_params rp;
         rp.root = anima::parse_root_path(o.root);
         rp.up = m.up;
-        const clip_t result = anima::resequence(m.clip, stream, rp);
+        clip_t result = anima::resequence(m.clip, stream, rp);
+        // With --plant-feet, feet on the ground through a turn or jump stay planted.
+        anima::plant_feet_params<double> pp;
+        pp.contacts.up = m.up;
+        for (const std::size_t f : events) pp.ranges.push_back({f, f + 1});
+        if (o.plant_feet && !pp.ranges.empty() && anima::has_feet_to_plant(result, pp)) {
+            auto planted = anima::plant_feet(result, pp);
+            result = std::move(planted.planted);
+            out["planted_runs"] = planted.runs;
+        }
+        out["feet_planted"] = o.plant_feet;
         if (!o.output.empty()) {
             write_text_file(o.output, anima::format_bvh(result, write));
             out["output"] = o.output;
@@ -200,6 +213,8 @@ void register_playback(CLI::App& app) {
                                 "Jump between similar frames (video textures, L2 distance) instead of turning");
     for (CLI::Option* option : symmetric) video->excludes(option);
     add_frame_range_options(*sub, opts->range);
+    sub->add_flag("--plant-feet", opts->plant_feet,
+                  "Hold feet that are on the ground through a turn or jump in place (IK on the legs)");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_playback(*opts); });
 }

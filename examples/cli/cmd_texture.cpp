@@ -34,6 +34,7 @@ struct texture_options {
     std::string root = "accumulated", up;
     double neighbour_weight = 0.5, mix_probability = 0.5;
     bool json = false, hard_cut = false, symmetric = false, keep_heading = false, progress = false;
+    bool plant_feet = false;
     CLI::Option *m_opt = nullptr, *overlap_opt = nullptr, *first_opt = nullptr, *up_opt = nullptr;
 };
 
@@ -165,7 +166,8 @@ anima::motion_texture_params<double> texture_params(const texture_options& o, co
     p.mixing.symmetric = o.symmetric;
     p.mixing.probability = o.mix_probability;
     p.mixing.playback.seed = o.seed;
-
+    p.planting.enabled = o.plant_feet;
+    p.planting.feet.contacts.up = p.texton.up;
     return p;
 }
 
@@ -256,6 +258,8 @@ json texture_json(const texture_options& o, std::size_t first, const clip_t& c, 
                 {"foot_skate", {{"input", skate.input},
                                 {"output", skate.output},
                                 {"ratio", skate.input > 0 ? json(skate.output / skate.input) : json(nullptr)}}},
+                {"feet_planted", o.plant_feet},
+                {"planted_runs", t.planted_runs},
                 {"seam_check", {{"joint_speed_ratio", check.worst_joint},
                                 {"worst_joint", check.worst_joint_name},
                                 {"root_speed_ratio", check.worst_root},
@@ -271,6 +275,7 @@ json texture_json(const texture_options& o, std::size_t first, const clip_t& c, 
                                    {"blend", t.timings.blend},
                                    {"patch", t.timings.patch},
                                    {"smoothing", t.timings.smoothing},
+                                   {"planting", t.timings.planting},
                                    {"write", times.write},
                                    {"total", times.total}}}};
     if (o.symmetric)
@@ -434,6 +439,8 @@ void register_texture(CLI::App& app) {
     opts->up_opt = sub->add_option("--up", opts->up, "The clip's up axis, instead of the one guessed from the skeleton")
                        ->type_name("AXIS")
                        ->check(signed_axis_validator());
+    sub->add_flag("--plant-feet", opts->plant_feet,
+                  "Hold feet that are on the ground across seams and turns in place (IK on the legs)");
     sub->add_flag("--progress", opts->progress, "Report the time of each stage on stderr");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_texture(*opts); });

@@ -17,7 +17,7 @@ struct transition_options {
     std::string a, b, output, method = "variable", timing = "velocity";
     std::size_t at = 0, to = 0;
     double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1;
-    bool json = false;
+    bool json = false, no_plant_feet = false;
 };
 
 void check_frame(std::size_t frame, const clip_t& c, const std::string& path, const char* option) {
@@ -58,7 +58,7 @@ void run_transition(const transition_options& o) {
         out["limiting_joint"] = a.skeleton()[t.timing.limiting_joint].name;
         out["classes"] = {{"a", anima::to_string(t.class_a.type)}, {"b", anima::to_string(t.class_b.type)}};
         out["parameter"] = anima::to_string(t.parameter);
-        out["root_path"] = t.flight ? "Eq 13 (gravity)" : "Eq 12";
+        out["root_path"] = t.flight ? "Eq 13 (gravity)" : params.continuous_root ? "Hermite to B's velocity" : "Eq 12";
         json joints = json::array();
         for (const auto& jt : t.timing.joints)
             joints.push_back({{"name", a.skeleton()[jt.joint].name},
@@ -76,6 +76,19 @@ void run_transition(const transition_options& o) {
         else joined = anima::inertialize(a, o.at, b, o.to, o.halflife);
         out["duration"] = a.frame_time() * static_cast<double>(joined.end_frame - joined.start_frame);
     }
+    // Feet on the ground through the window stay planted (all methods).
+    const auto roles = anima::joint_roles(a.skeleton());
+    const auto up = anima::guess_up_axis(a.skeleton()).up;
+    const double mpu = anima::guess_units(a.skeleton(), up).metres_per_unit;
+    const auto as_joined = anima::measure_transition(joined, roles, up, mpu);
+    if (!o.no_plant_feet) joined = anima::plant_transition_feet(joined);
+    const auto as_written = o.no_plant_feet ? as_joined : anima::measure_transition(joined, roles, up, mpu);
+    const auto skate = [](const anima::transition_quality<double>& q) {
+        return json{{"window", q.foot_skate_window}, {"clips", q.foot_skate_clips}, {"ratio", q.foot_skate_ratio}};
+    };
+    out["feet_planted"] = !o.no_plant_feet;
+    out["foot_skate"] = skate(as_written);
+    if (!o.no_plant_feet) out["foot_skate_unplanted"] = skate(as_joined);
     out["start_frame"] = joined.start_frame;
     out["end_frame"] = joined.end_frame;
     out["frames"] = joined.motion.frames();
@@ -111,6 +124,9 @@ void run_transition(const transition_options& o) {
                       << '\n';
         }
     }
+    std::cout << "foot skate in the window: " << format_fixed(as_written.foot_skate_ratio, 2) << "x the clips' own";
+    if (!o.no_plant_feet) std::cout << " (" << format_fixed(as_joined.foot_skate_ratio, 2) << "x before planting)";
+    std::cout << '\n';
     if (!o.output.empty()) std::cout << "wrote " << o.output << " (skeleton and offsets of " << file_name(o.a) << ")\n";
 }
 
@@ -152,6 +168,8 @@ void register_transition(CLI::App& app) {
     sub->add_option("--halflife", opts->halflife, "Half-life of the inertialization spring, seconds")
         ->check(positive_number())
         ->capture_default_str();
+    sub->add_flag("--no-plant-feet", opts->no_plant_feet,
+                  "Leave feet that are on the ground through the window sliding as the method left them");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_transition(*opts); });
 }

@@ -162,7 +162,7 @@ TEST_CASE_TEMPLATE("texture: exactly N frames of unit quaternions and finite val
     }
     const auto t = anima::make_motion_texture(c, 1700, p);
     CHECK(t.timings.total == doctest::Approx(t.timings.features + t.timings.search + t.timings.cut + t.timings.blend +
-                                             t.timings.patch + t.timings.smoothing));
+                                             t.timings.patch + t.timings.smoothing + t.timings.planting));
     CHECK(t.smoothing.solves > 0);
     CHECK(t.smoothing.converged);
     CHECK(!t.overlap_spans.empty());
@@ -201,6 +201,26 @@ TEST_CASE_TEMPLATE("texture: seams stay within the input's speeds; a cut-and-pas
         p.texton = anima::fit_texton_lengths(p.texton, c.frames());
         check_seams_smooth(c, p, 1700, T(0.02));
     }
+}
+
+TEST_CASE_TEMPLATE("texture: planting holds feet across seams of the bundled run", T, float, double) {
+    const auto c = run<T>();
+    anima::motion_texture_params<T> p;
+    p.texton = anima::fit_texton_lengths(p.texton, c.frames());
+    anima::contact_params<T> cp;
+    cp.use_speed = false;  // sliding feet count as planted
+    const auto skate = [&](const anima::clip<T>& m) { return anima::foot_skate(anima::find_contacts(m, cp)).median; };
+    const auto loose = anima::make_motion_texture(c, 1700, p);
+    CHECK(loose.planted_runs == 0);
+    p.planting.enabled = true;
+    const auto planted = anima::make_motion_texture(c, 1700, p);
+    check_well_formed(planted.motion, 1700);
+    CHECK(planted.planted_runs > 10);
+    MESSAGE("run texture skate / input: " << skate(loose.motion) / skate(c) << " loose, "
+                                          << skate(planted.motion) / skate(c) << " planted");
+    CHECK(skate(planted.motion) < T(0.8) * skate(loose.motion));
+    // The frames are the same stream: planting moves legs, never the root.
+    for (std::size_t f = 0; f < 1700; ++f) REQUIRE(planted.motion.root_position(f) == loose.motion.root_position(f));
 }
 
 TEST_CASE_TEMPLATE("texture: the root keeps travelling instead of snapping back", T, float, double) {

@@ -97,7 +97,7 @@ texton_params<T> fit_texton_lengths(texton_params<T> params, std::size_t frames)
 
 /// Seconds spent in each stage.
 struct texture_timings {
-    double features = 0, search = 0, cut = 0, blend = 0, patch = 0, smoothing = 0, total = 0;
+    double features = 0, search = 0, cut = 0, blend = 0, patch = 0, smoothing = 0, planting = 0, total = 0;
 };
 
 template <class T>
