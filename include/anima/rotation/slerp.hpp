@@ -155,7 +155,7 @@ ANIMA_COLD quat4<T> slerp_general_lanes(quat_lanes<T> a, quat_lanes<T> b, T t, a
 /// Newton step on the inputs absorbs that).
 template <class T>
 ANIMA_FORCE_INLINE quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::shortest,
-                const char* who = "anima::slerp", bool unit_result = true) {
+                                   const char* who = "anima::slerp", bool unit_result = true) {
     constexpr T tolerance = near_unit_tolerance<T>();
     const quat_lanes<T> a = to_lanes(a4), b = to_lanes(b4);
     T na, nb, d;
