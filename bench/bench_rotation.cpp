@@ -9,6 +9,8 @@
 //   BM_squad<glm_native, T>                 glm::squad, glm::intermediate control points
 //   BM_squad_control_point<anima, glm, T>   anima::squad_control_point
 //   BM_squad_control_point<glm_native, T>   glm::intermediate
+//   BM_slerp_by_input<anima, glm, T>/k      anima::slerp on the mixed batch's k-th kind of input only
+//   BM_slerp_by_input<glm_native, T>/k      glm::slerp on the same
 //
 // Each iteration processes a batch of 4096 items (items/s is per quaternion
 // produced). slerp pairs are mixed, in turn: uniformly random, 1e-6 rad
@@ -308,6 +310,26 @@ void slerp_eigen(benchmark::State& state) {
     finish(state);
 }
 
+/// slerp on one kind of input of the mixed batch (its items i with i % 4 ==
+/// kind: 0 random, 1 1e-6 rad apart, 2 nearly antipodal, 3 150 to 180
+/// degrees), anima's or GLM's: shows where each one's time goes.
+template <class T, bool anima_side>
+void slerp_by_input(benchmark::State& state) {
+    const auto& in = data<T>();
+    const auto kind = static_cast<std::size_t>(state.range(0));
+    for (auto _ : state) {
+        T sink = 0;
+        for (std::size_t i = kind; i < batch_size; i += 4) {
+            if constexpr (anima_side)
+                accumulate(sink, anima::slerp(in.ga[i], in.gb[i], in.t[i]));
+            else
+                accumulate(sink, glm::slerp(in.ga[i], in.gb[i], in.t[i]));
+        }
+        benchmark::DoNotOptimize(sink);
+    }
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(batch_size / 4));
+}
+
 // ---------------------------------------------------------------------------
 // squad (control points precomputed by each library's own function)
 
@@ -377,6 +399,10 @@ void register_all() {
     benchmark::RegisterBenchmark(("BM_squad<glm_native, " + ty + ">").c_str(), squad_glm<T>);
     benchmark::RegisterBenchmark(("BM_squad_control_point<anima, glm, " + ty + ">").c_str(), control_point_anima<T>);
     benchmark::RegisterBenchmark(("BM_squad_control_point<glm_native, " + ty + ">").c_str(), control_point_glm<T>);
+    benchmark::RegisterBenchmark(("BM_slerp_by_input<anima, glm, " + ty + ">").c_str(), slerp_by_input<T, true>)
+        ->DenseRange(0, 3);
+    benchmark::RegisterBenchmark(("BM_slerp_by_input<glm_native, " + ty + ">").c_str(), slerp_by_input<T, false>)
+        ->DenseRange(0, 3);
 }
 
 const bool registered = [] {

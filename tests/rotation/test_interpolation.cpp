@@ -4,6 +4,7 @@
 #include "rotation_test_util.hpp"
 
 #include <anima/rotation/angular_velocity.hpp>
+#include <anima/rotation/detail/angle_series.hpp>
 #include <anima/rotation/lerp.hpp>
 #include <anima/rotation/quaternion.hpp>
 #include <anima/rotation/slerp.hpp>
@@ -344,6 +345,35 @@ TEST_CASE_TEMPLATE("slerp's worst angle error on mixed inputs is within GLM's ac
     CAPTURE(worst_eigen);
     CHECK(worst <= bound);
     CHECK(worst <= 2 * std::max(worst_glm, worst_eigen));
+}
+
+TEST_CASE_TEMPLATE("slerp is accurate on mid-range pairs and on both sides of the direct series' limit", Q,
+                   ANIMA_QUAT_TYPES) {
+    // Rotations 5 to 175 degrees apart, and 4-vector angles with 1 - cos(theta)
+    // just below and above direct_series_limit (where the weights switch from
+    // the series in cos(theta) - 1 to the quartered angle): the same bounds as
+    // on the mixed set, and the components within 4 eps of a long double slerp.
+    using T = scalar<Q>;
+    const T e = eps<T>();
+    const bool dbl = sizeof(T) == sizeof(double);
+    const ld bound = dbl ? 2e-15L : 5e-7L;
+    const ld limit = anima::detail::direct_series_limit<T>();
+    const ld switch_angle = 2 * std::acos(1 - limit);  // rotation angle: twice the 4-vector angle
+    rng r(42);
+    ld worst = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const lq a = r.unit_lq();
+        const ld angle = i % 2 == 0 ? r.uniform(5, 175) * pi / 180 : switch_angle * (1 + (i % 4 == 1 ? -1 : 1) * 1e-4L);
+        const Q qa = from_lq<Q>(a), qb = from_lq<Q>(a * rot(angle, r.unit_vector()));
+        const T t = T(r.uniform(0, 1));
+        const Q s = anima::slerp(qa, qb, t);
+        const lq ref = ref_slerp(to_lq(qa), to_lq(qb), t);
+        CAPTURE(angle);
+        CHECK(norm_error(s) <= 2 * e);
+        CHECK(diff(s, ref) <= 4 * e);
+        worst = std::max(worst, angle_between(to_lq(s), ref));
+    }
+    CHECK(worst <= bound);
 }
 
 TEST_CASE_TEMPLATE("slerp's single fast-path test routes every other input to the general path", Q, ANIMA_QUAT_TYPES) {

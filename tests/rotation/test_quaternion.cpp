@@ -480,6 +480,38 @@ TEST_CASE_TEMPLATE("the quaternion core runs on AutoDiff scalars with derivative
     }
 }
 
+TEST_CASE_TEMPLATE("select_less takes one branch by value, evaluates only it, and keeps its derivatives", T, float,
+                   double) {
+    // The switch-over of every series in the core: the branch not taken may
+    // be singular (a square root at 0), so it must not run, and on AutoDiff
+    // scalars the result's derivatives are those of the branch taken.
+    int near_calls = 0, far_calls = 0;
+    const auto pick = [&](T x) {
+        return anima::detail::select_less(
+            x, T(1), [&] { return ++near_calls, x * x; }, [&] { return ++far_calls, std::sqrt(x); });
+    };
+    CHECK(pick(T(0.5)) == T(0.25));
+    CHECK(near_calls == 1);
+    CHECK(far_calls == 0);
+    CHECK(pick(T(4)) == T(2));
+    CHECK(pick(T(1)) == T(1));  // not below: the closed form
+    CHECK(near_calls == 1);
+    CHECK(far_calls == 2);
+
+    using ad = Eigen::AutoDiffScalar<Eigen::Matrix<T, 1, 1>>;
+    const auto root_or_square = [](const ad& x) {
+        using std::sqrt;
+        return anima::detail::select_less(
+            x, ad(T(1e-3)), [&] { return ad(x * x); }, [&] { return ad(sqrt(x)); });
+    };
+    const ad zero{T(0), 1, 0}, four{T(4), 1, 0};
+    const ad at_zero = root_or_square(zero), at_four = root_or_square(four);
+    CHECK(at_zero.value() == T(0));
+    CHECK(at_zero.derivatives()[0] == T(0));  // d(x^2)/dx, not the square root's infinity
+    CHECK(at_four.value() == T(2));
+    CHECK(at_four.derivatives()[0] == T(0.25));
+}
+
 TEST_CASE_TEMPLATE("right_jacobian_so3 maps rotation-vector steps to body angular velocity", T, float, double) {
     // exp(v + dv) = exp(v) exp(Jr(v) dv) to first order, checked with a long
     // double central difference, from 0 across the series' switch-overs to pi.

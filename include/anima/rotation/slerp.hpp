@@ -5,15 +5,18 @@
 // k1 = sin(t theta) / sin(theta) and k0 the same with 1 - t. Both weights
 // come from the power series of detail/angle_series.hpp, with no sine or arc
 // cosine: when 1 - cos(theta) is below sqrt(epsilon), two terms of the
-// series in cos(theta) - 1; below 0.2, more terms of the same series (7 in
-// float, 16 in double); above, the series in cos(theta/4) - 1 (two
-// half-angle square roots, one division, 5 or 10 terms). Near theta = 0 the
-// series are exact, so t is honoured at every angle and identical inputs
-// need no special case. The series for t and 1 - t are evaluated side by
-// side in the lanes of one vector, and the dot products and the blend run on
-// the quaternion as a vector (detail/lanes.hpp: GCC/Clang vector types, a
-// plain array elsewhere). The result's length is corrected from the weights
-// (|k0 a + k1 b|^2 = k0^2 + k1^2 + 2 k0 k1 cos(theta)), by one Newton step.
+// series in cos(theta) - 1; below 0.3 (float, 8 terms) or 0.2 (double, 16
+// terms), more terms of the same series; above, the series in
+// cos(theta/4) - 1 (two half-angle square roots, one division, 5 or 10
+// terms). Near theta = 0 the series are exact, so t is honoured at every
+// angle and identical inputs need no special case. The series for t and
+// 1 - t are evaluated side by side in the lanes of one vector, and the dot
+// products (all three sharing one reduction) and the blend run on the
+// quaternion as a vector (detail/lanes.hpp: GCC/Clang vector types, a plain
+// array elsewhere). Outside the two-term range the result's length is
+// corrected from the weights (|k0 a + k1 b|^2 = k0^2 + k1^2 + 2 k0 k1
+// cos(theta)), by one Newton step; inside it the weights are exact to
+// rounding and need no correction.
 //
 // The fast path takes inputs within sqrt(epsilon)/4 of unit length (one
 // Newton step brings them to unit length inside the weights) and t in
@@ -139,22 +142,30 @@ quat4<T> slerp_general(const quat4<T>& a_in, const quat4<T>& b_in, T t, arc mode
     return r * (T(1) / norm4(r));
 }
 
+/// slerp_general on inputs in lanes, which the fast path passes in
+/// registers: the conversion back happens here, off the fast path.
+template <class T>
+ANIMA_COLD quat4<T> slerp_general_lanes(quat_lanes<T> a, quat_lanes<T> b, T t, arc mode, const char* who) {
+    return slerp_general(from_lanes(a), from_lanes(b), t, mode, who);
+}
+
 /// Slerp of 4-vectors along the chosen arc. The result has unit length;
 /// with `unit_result` false the fast path leaves it within a few epsilon of
 /// it (enough for a caller that feeds it straight into another slerp, whose
 /// Newton step on the inputs absorbs that).
 template <class T>
-inline quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::shortest,
-                const char* who = "anima::slerp", bool unit_result = true) {
+ANIMA_FORCE_INLINE quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = arc::shortest,
+                                   const char* who = "anima::slerp", bool unit_result = true) {
     constexpr T tolerance = near_unit_tolerance<T>();
     const quat_lanes<T> a = to_lanes(a4), b = to_lanes(b4);
-    const T na = dot_lanes(a, a), nb = dot_lanes(b, b), d = dot_lanes(a, b);
+    T na, nb, d;
+    dot3_lanes(a, b, na, nb, d);
     // One test for the fast path: both inputs near unit length (NaN fails),
     // t in [0, 1] (t (1 - t) >= 0 fails for NaN and infinities too), and for
     // an arc as given an angle of at most 90 degrees.
     const T d_min = mode == arc::shortest ? T(-2) : T(0);
     if (!(std::abs(na - T(1)) + std::abs(nb - T(1)) <= tolerance && t * (T(1) - t) >= T(0) && d >= d_min))
-        return slerp_general(a4, b4, t, mode, who);
+        return slerp_general_lanes(a, b, t, mode, who);
     // One Newton step towards 1/|q| from 1: the inputs' length error drops
     // from at most sqrt(eps)/4 to below eps. It is folded into the weights.
     const T ga = T(1.5) - T(0.5) * na, gb = T(1.5) - T(0.5) * nb;
@@ -167,15 +178,18 @@ inline quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, arc mode = a
         // theta below about eps^(1/4): two terms of the series in cos(theta) - 1
         // itself are exact (the third is under 2 y^2 / 15 <= eps / 8), with no
         // square root or division. Nearly identical and nearly antipodal inputs.
-        const T s = T(1) - t, y3 = y * T(1.0L / 3);
-        k0 = s + s * (s * s - T(1)) * y3;
-        k1 = t + t * (t * t - T(1)) * y3;
-    } else {
-        T w0[1], w1[1];
-        slerp_weights<T, 1>({cos_theta}, t, w0, w1);
-        k0 = w0[0];
-        k1 = w1[0];
+        // The factors of y depend on t alone, off the chain from the inputs;
+        // the weights are exact to rounding, so the result needs no length
+        // correction of its own.
+        const T s = T(1) - t, p0 = s * (s * s - T(1)) * T(1.0L / 3), p1 = t * (t * t - T(1)) * T(1.0L / 3);
+        k0 = s + p0 * y;
+        k1 = t + p1 * y;
+        return from_lanes(blend_lanes(a, k0 * ga, b, k1 * gbs));
     }
+    T w0[1], w1[1];
+    slerp_weights<T, 1>({cos_theta}, t, w0, w1);
+    k0 = w0[0];
+    k1 = w1[0];
     if (unit_result) {
         // |k0 a + k1 b|^2 for unit a, b, from the weights: one Newton step
         // towards its inverse square root takes out the weights' rounding

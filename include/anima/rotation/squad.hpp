@@ -25,11 +25,13 @@ inline Q squad_control_point(const Q& prev, const Q& q, const Q& next) {
     const char* who = "anima::squad_control_point";
     const auto c_in = detail::load(q), p_in = detail::load(prev), n_in = detail::load(next);
     const detail::quat_lanes<T> lc = detail::to_lanes(c_in), lp = detail::to_lanes(p_in), ln = detail::to_lanes(n_in);
-    const T nc = detail::dot_lanes(lc, lc), np = detail::dot_lanes(lp, lp), nn = detail::dot_lanes(ln, ln);
+    T nc, np, nn, dp, dn, unused;
+    detail::dot3_lanes(lc, lp, nc, np, dp);
+    detail::dot3_lanes(ln, lc, nn, unused, dn);
     // The hemisphere test on the inputs as given, with the same dot product
     // as squad() uses for a segment: a key pair 180 degrees apart (a.b = 0 up
     // to rounding) then gets the same choice of arc in both places.
-    const T sp = detail::dot_lanes(lc, lp) < T(0) ? T(-1) : T(1), sn = detail::dot_lanes(lc, ln) < T(0) ? T(-1) : T(1);
+    const T sp = dp < T(0) ? T(-1) : T(1), sn = dn < T(0) ? T(-1) : T(1);
     detail::quat4<T> c, rp, rn;  // the key and the neighbours relative to it, unit, on its side
     if (std::abs(nc - T(1)) + std::abs(np - T(1)) + std::abs(nn - T(1)) <= detail::near_unit_tolerance<T>()) {
         // One Newton step on each length, applied to the products.
@@ -55,6 +57,17 @@ inline Q squad_control_point(const Q& prev, const Q& q, const Q& next) {
 
 namespace detail {
 
+/// squad4's general path, q2 and s2 already on q1's side: three slerps along
+/// the arcs as given. Out of line, so that the fast path stays small.
+template <class T>
+ANIMA_COLD quat4<T> squad4_general(const quat4<T>& q1, const quat4<T>& q2, const quat4<T>& s1, const quat4<T>& s2,
+                                   T t) {
+    const char* who = "anima::squad";
+    const quat4<T> a = slerp4(q1, q2, t, arc::as_given, who, false);
+    const quat4<T> b = slerp4(s1, s2, t, arc::as_given, who, false);
+    return slerp4(a, b, T(2) * t * (T(1) - t), arc::as_given, who);
+}
+
 /// Squad on 4-vectors. q2 is taken on q1's side (the shorter arc of the
 /// segment) and s2 follows it: s2 was built on q2's side, so when q2 is
 /// negated s2 is too. The blends then follow the arcs as given: a shortest-arc
@@ -62,11 +75,13 @@ namespace detail {
 /// control points are more than 90 degrees (4-vector angle) apart, which
 /// happens for keys more than 120 degrees apart.
 template <class T>
-inline quat4<T> squad4(const quat4<T>& q1, quat4<T> q2, const quat4<T>& s1, quat4<T> s2, T t) {
+inline quat4<T> squad4(const quat4<T>& q1, const quat4<T>& q2, const quat4<T>& s1, const quat4<T>& s2, T t) {
     const char* who = "anima::squad";
     const quat_lanes<T> lq1 = to_lanes(q1), lq2 = to_lanes(q2), ls1 = to_lanes(s1), ls2 = to_lanes(s2);
-    const T n1 = dot_lanes(lq1, lq1), n2 = dot_lanes(lq2, lq2), m1 = dot_lanes(ls1, ls1), m2 = dot_lanes(ls2, ls2);
-    const T dq = dot_lanes(lq1, lq2), side = dq < T(0) ? T(-1) : T(1), ds = dot_lanes(ls1, ls2) * side;
+    T n1, n2, m1, m2, dq, ds_given;
+    dot3_lanes(lq1, lq2, n1, n2, dq);
+    dot3_lanes(ls1, ls2, m1, m2, ds_given);
+    const T side = dq < T(0) ? T(-1) : T(1), ds = ds_given * side;
     // Fast path, one test: all four inputs near unit length, t in [0, 1], and
     // the control points' arc (on the keys' side) at most 90 degrees. The two
     // inner blends share t, so their four series run in the lanes together;
@@ -83,13 +98,7 @@ inline quat4<T> squad4(const quat4<T>& q1, quat4<T> q2, const quat4<T>& s1, quat
         const quat4<T> b = from_lanes(blend_lanes(ls1, k0[1] * h1, ls2, k1[1] * h2));
         return slerp4(a, b, T(2) * t * (T(1) - t), arc::as_given, who);
     }
-    if (dq < T(0)) {
-        q2 = -q2;
-        s2 = -s2;
-    }
-    const quat4<T> a = slerp4(q1, q2, t, arc::as_given, who, false);
-    const quat4<T> b = slerp4(s1, s2, t, arc::as_given, who, false);
-    return slerp4(a, b, T(2) * t * (T(1) - t), arc::as_given, who);
+    return squad4_general(q1, dq < T(0) ? -q2 : q2, s1, dq < T(0) ? -s2 : s2, t);
 }
 
 }  // namespace detail

@@ -31,17 +31,19 @@ namespace anima::detail {
 /// angle, tau = t in [0, 1] or 0 for a logarithm) needs no square root or
 /// division. Term i is at most v_1 ... v_i |y|^i (|tau^2 u_i - v_i| <= v_i),
 /// so with these many terms and -y up to direct_series_limit the first
-/// omitted one is below epsilon / 8: float 7 terms, double 16, both to
-/// 1 - cos(theta) = 0.2 (4-vector angles up to 36.8 degrees, rotations up to
-/// 73.7); wider scalars 16 terms to 0.1.
+/// omitted one is below epsilon / 8: float 8 terms to 1 - cos(theta) = 0.3
+/// (4-vector angles up to 45.6 degrees, rotations up to 91: squad's key
+/// steps of up to 90 degrees take no square root, and its branch does not
+/// depend on the step), double 16 terms to 0.2 (36.8 and 73.7 degrees),
+/// wider scalars 16 terms to 0.1.
 template <class T>
 constexpr int direct_series_terms() {
-    return std::numeric_limits<T>::digits <= 24 ? 7 : 16;
+    return std::numeric_limits<T>::digits <= 24 ? 8 : 16;
 }
 template <class T>
 constexpr T direct_series_limit() {
     constexpr int digits = std::numeric_limits<T>::digits;
-    return digits <= 24 ? T(0.2) : digits <= 53 ? T(0.2) : T(0.1);
+    return digits <= 24 ? T(0.3) : digits <= 53 ? T(0.2) : T(0.1);
 }
 
 /// Number of series terms for tau <= 4, theta <= pi/2 that leaves the

@@ -167,21 +167,23 @@ std::array<std::array<T, 3>, 3> to_matrix(const quat4<T>& q) {
 /// automatic-derivative ones. Below small_angle both are series in a^2 (three
 /// terms: the next is below epsilon there, and the derivatives stay
 /// accurate), which also avoids the square root whose derivative is infinite
-/// at 0.
+/// at 0. The branch goes through select_less (core/scalar_value.hpp).
 template <class S>
 void cos_and_sinc(const S& a2, S& c, S& k) {
     using std::cos;
     using std::sin;
     using std::sqrt;
     using R = real_scalar_t<S>;
-    if (scalar_value(a2) < static_cast<double>(small_angle<R>() * small_angle<R>())) {
-        c = S(1) - a2 / S(2) + a2 * a2 / S(24);
-        k = S(1) - a2 / S(6) + a2 * a2 / S(120);
-    } else {
-        const S a = sqrt(a2);
-        c = cos(a);
-        k = sin(a) / a;
-    }
+    constexpr R limit = small_angle<R>() * small_angle<R>();
+    const std::array<S, 2> r = select_less(
+        a2, S(limit),
+        [&] { return std::array<S, 2>{S(S(1) - a2 / S(2) + a2 * a2 / S(24)), S(S(1) - a2 / S(6) + a2 * a2 / S(120))}; },
+        [&] {
+            const S a = sqrt(a2);
+            return std::array<S, 2>{S(cos(a)), S(sin(a) / a)};
+        });
+    c = r[0];
+    k = r[1];
 }
 
 /// exp of a pure quaternion (0, v): (cos|v|, sin|v| v/|v|), for any scalar S.
@@ -199,28 +201,30 @@ void log_unit(const quat4<S>& q, S& vx, S& vy, S& vz) {
     using std::atan2;
     using std::sqrt;
     using R = real_scalar_t<S>;
+    constexpr R small2 = small_angle<R>() * small_angle<R>();
     const S s2 = q.x * q.x + q.y * q.y + q.z * q.z;
-    const double w = scalar_value(q.w), small = static_cast<double>(small_angle<R>());
+    if (scalar_value(s2) == 0.0 && !(scalar_value(q.w) > 0.0)) {
+        // q = -1: the identity reached the long way round (angle 2 pi); the
+        // axis is undefined, x is chosen so the result is finite.
+        vx = atan2(S(0), q.w);
+        vy = S(0);
+        vz = S(0);
+        return;
+    }
     // theta / sin(theta) = atan2(s, w) / s; when s is tiny and w > 0 the ratio
     // is a series in r^2 = s^2 / w^2, free of the square root.
-    S k;
-    if (w > 0 && scalar_value(s2) < small * small * w * w) {
+    const auto series = [&] {
         // atan(r)/r = 1 - r^2/3 + r^4/5 - ...; the r^4 term matters at this
         // cut-off (small_angle is where x^4 / 120 drops below epsilon).
         const S r2 = s2 / (q.w * q.w);
-        k = (S(1) - r2 / S(3) + r2 * r2 / S(5)) / q.w;
-    } else {
+        return S((S(1) - r2 / S(3) + r2 * r2 / S(5)) / q.w);
+    };
+    const auto closed = [&] {
         const S s = sqrt(s2);
-        if (scalar_value(s) == 0.0) {
-            // q = -1: the identity reached the long way round (angle 2 pi); the
-            // axis is undefined, x is chosen so the result is finite.
-            vx = atan2(s, q.w);
-            vy = S(0);
-            vz = S(0);
-            return;
-        }
-        k = atan2(s, q.w) / s;
-    }
+        return S(atan2(s, q.w) / s);
+    };
+    const auto below_cut_off = [&] { return select_less(s2, S(S(small2) * q.w * q.w), series, closed); };
+    const S k = select_less(S(0), q.w, below_cut_off, closed);
     vx = k * q.x;
     vy = k * q.y;
     vz = k * q.z;

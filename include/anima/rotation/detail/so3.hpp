@@ -26,7 +26,8 @@ Eigen::Matrix<T, 3, 3> cross_matrix(const Eigen::Matrix<T, 3, 1>& v) {
 /// The first is computed as (sin(t/2) / (t/2))^2 / 2, which does not cancel
 /// (cos_and_sinc, with its series below small_angle); the second is a series in t^2
 /// below t = 1, with terms down to t^16 / 19! (below double epsilon there),
-/// and the closed form above, where it loses at most a few bits.
+/// and the closed form above, where it loses at most a few bits. Both
+/// switch-overs go through select_less (core/scalar_value.hpp).
 template <class T>
 Eigen::Matrix<T, 3, 3> right_jacobian_so3(const Eigen::Matrix<T, 3, 1>& v) {
     using std::sin;
@@ -35,24 +36,27 @@ Eigen::Matrix<T, 3, 3> right_jacobian_so3(const Eigen::Matrix<T, 3, 1>& v) {
     T cos_half, sinc_half;  // cos(t/2), sin(t/2) / (t/2)
     cos_and_sinc(T(t2 / T(4)), cos_half, sinc_half);
     const T a = sinc_half * sinc_half / T(2);  // (1 - cos t)/t^2
-    T b;                                        // (t - sin t)/t^3
-    if (scalar_value(t2) < 1.0) {
-        // sum over k of (-1)^k t^2k / (2k + 3)!, k = 0..8, by Horner's rule.
-        b = T(0);
-        double factorial = 1;  // (2k + 3)!
-        double coefficient[9];
-        for (int k = 0; k < 9; ++k) {
-            if (k == 0)
-                factorial = 6;
-            else
-                factorial *= double(2 * k + 2) * double(2 * k + 3);
-            coefficient[k] = (k % 2 == 0 ? 1.0 : -1.0) / factorial;
-        }
-        for (int k = 8; k >= 0; --k) b = T(coefficient[k]) + t2 * b;
-    } else {
-        const T t = sqrt(t2);
-        b = (t - sin(t)) / (t2 * t);
-    }
+    const T b = select_less(  // (t - sin t)/t^3
+        t2, T(1),
+        [&] {
+            // sum over k of (-1)^k t^2k / (2k + 3)!, k = 0..8, by Horner's rule.
+            double factorial = 1;  // (2k + 3)!
+            double coefficient[9];
+            for (int k = 0; k < 9; ++k) {
+                if (k == 0)
+                    factorial = 6;
+                else
+                    factorial *= double(2 * k + 2) * double(2 * k + 3);
+                coefficient[k] = (k % 2 == 0 ? 1.0 : -1.0) / factorial;
+            }
+            T sum = T(0);
+            for (int k = 8; k >= 0; --k) sum = T(coefficient[k]) + t2 * sum;
+            return sum;
+        },
+        [&] {
+            const T t = sqrt(t2);
+            return T((t - sin(t)) / (t2 * t));
+        });
     const Eigen::Matrix<T, 3, 3> k = cross_matrix(v);
     return Eigen::Matrix<T, 3, 3>::Identity() - a * k + b * (k * k);
 }

@@ -53,7 +53,8 @@ template <class T>
 void slerp_many(const Eigen::Quaternion<T>& a_in, const Eigen::Quaternion<T>& b_in, const T* t, std::size_t n,
                 Eigen::Quaternion<T>* out) {
     const quat_lanes<T> a = to_lanes(load(a_in)), b = to_lanes(load(b_in));
-    const T na = dot_lanes(a, a), nb = dot_lanes(b, b), d = dot_lanes(a, b);
+    T na, nb, d;
+    dot3_lanes(a, b, na, nb, d);
     const T ga = T(1.5) - T(0.5) * na, gb = T(1.5) - T(0.5) * nb;
     const T gbs = d < T(0) ? -gb : gb;  // the shorter arc
     const T cos_theta = std::abs(d) * ga * gb;
@@ -82,8 +83,10 @@ void squad_many(const Eigen::Quaternion<T>& q1_in, const Eigen::Quaternion<T>& q
                 const Eigen::Quaternion<T>& s2_in, const T* t, std::size_t n, Eigen::Quaternion<T>* out) {
     const quat_lanes<T> lq1 = to_lanes(load(q1_in)), lq2 = to_lanes(load(q2_in)), ls1 = to_lanes(load(s1_in)),
                         ls2 = to_lanes(load(s2_in));
-    const T n1 = dot_lanes(lq1, lq1), n2 = dot_lanes(lq2, lq2), m1 = dot_lanes(ls1, ls1), m2 = dot_lanes(ls2, ls2);
-    const T dq = dot_lanes(lq1, lq2), side = dq < T(0) ? T(-1) : T(1), ds = dot_lanes(ls1, ls2) * side;
+    T n1, n2, m1, m2, dq, ds_given;
+    dot3_lanes(lq1, lq2, n1, n2, dq);
+    dot3_lanes(ls1, ls2, m1, m2, ds_given);
+    const T side = dq < T(0) ? T(-1) : T(1), ds = ds_given * side;
     constexpr T tolerance = near_unit_tolerance<T>();  // folded at compile time
     const bool fast =
         std::abs(n1 - T(1)) + std::abs(n2 - T(1)) + std::abs(m1 - T(1)) + std::abs(m2 - T(1)) <= tolerance && ds >= T(0);
