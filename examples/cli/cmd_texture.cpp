@@ -7,6 +7,7 @@
 // seams marked, as the paper's Fig 3 does.
 #include "commands.hpp"
 #include "common.hpp"
+#include "view_page.hpp"
 
 #include <anima/texture.hpp>
 
@@ -27,7 +28,7 @@ namespace anima_cli {
 namespace {
 
 struct texture_options {
-    std::string input, output, plot, texton_output;
+    std::string input, output, plot, texton_output, view;
     std::size_t frames = 0, m = 100, overlap = 50, blend = 0, first = 0;
     std::uint64_t seed = 1;
     std::string capacity = "normalized", metric = "mahalanobis", smoothing = "1d", solver = "multigrid";
@@ -209,6 +210,34 @@ skate_check check_skate(const clip_t& c, const anima::motion_texture<double>& t,
     return {anima::foot_skate(anima::find_contacts(c, p)).median, anima::foot_skate(anima::find_contacts(t.motion, p)).median};
 }
 
+/// The page of --view: the input (M1 and M2 marked) beside the texture
+/// (each pass through the overlap, the frames where the graph-cut seams
+/// are crossed, and the symmetric passages' turns).
+view_page texture_page(const texture_options& o, const clip_t& c, const anima::motion_texture<double>& t) {
+    view_page page;
+    page.title = "Motion texture of " + file_name(o.input) + ": " + std::to_string(t.motion.frames()) + " frames";
+    page.clips = {{"input " + file_name(o.input), c}, {"texture", t.motion}};
+    const std::size_t m = t.texton.m, n = c.frames();
+    page.markers.push_back({0, 0, m - 1, "m1", "M1, the clip's first " + std::to_string(m) + " frames"});
+    page.markers.push_back({0, n - m, n - 1, "m2", "M2, laid over M1 where they overlap best"});
+    const auto crossings = cut_crossings(t);
+    for (std::size_t pass = 0; pass < t.overlap_spans.size(); ++pass) {
+        const auto [first, last] = t.overlap_spans[pass];
+        page.markers.push_back({1, first, last, "overlap", "pass " + std::to_string(pass + 1) + " through the overlap"});
+        std::vector<std::size_t> seams;
+        for (const auto& row : crossings)
+            for (const std::size_t k : row)
+                if (k >= first && k <= last) seams.push_back(k);
+        if (seams.empty()) continue;
+        const auto [lo, hi] = std::minmax_element(seams.begin(), seams.end());
+        page.markers.push_back({1, *lo, *hi, "seam",
+                                "graph-cut seams crossed in pass " + std::to_string(pass + 1) + " (" +
+                                    std::to_string(seams.size()) + " joint switches)"});
+    }
+    for (const auto& marker : frame_markers(1, t.turns, "turn", "symmetric passage turns")) page.markers.push_back(marker);
+    return page;
+}
+
 struct stage_times {
     double read = 0, write = 0, total = 0;
 };
@@ -278,11 +307,12 @@ json texture_json(const texture_options& o, std::size_t first, const clip_t& c, 
     if (!o.output.empty()) out["output"] = o.output;
     if (!o.texton_output.empty()) out["texton_output"] = o.texton_output;
     if (!o.plot.empty()) out["plot"] = o.plot;
+    if (!o.view.empty()) out["view"] = o.view;
     return out;
 }
 
 void run_texture(const texture_options& o) {
-    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}});
+    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}, {"--view", &o.view}});
     if (!o.plot.empty()) require_png("--plot");
     const auto start = clock_type::now();
     const std::string text = read_text_file(o.input);
@@ -326,6 +356,8 @@ void run_texture(const texture_options& o) {
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(t.motion, write));
     if (!o.texton_output.empty()) write_text_file(o.texton_output, anima::format_bvh(texton.motion, write));
     if (!o.plot.empty()) write_plot(o.plot, c, t, up);
+    std::string page_written;
+    if (!o.view.empty()) page_written = write_view_page(o.view, texture_page(o, c, t));
     const double write_seconds = seconds_since(write_start);
 
     const seam_check check = check_seams(c, t);
@@ -366,6 +398,7 @@ void run_texture(const texture_options& o) {
     if (!o.output.empty()) std::cout << "wrote " << o.output << '\n';
     if (!o.texton_output.empty()) std::cout << "wrote " << o.texton_output << " (the texton)\n";
     if (!o.plot.empty()) std::cout << "wrote " << o.plot << ": input and texture as DOF x frame images, seams in red\n";
+    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
 }
 
 }  // namespace
@@ -384,6 +417,7 @@ void register_texture(CLI::App& app) {
     sub->add_option("-o,--output", opts->output, "Write the texture to this BVH file")->type_name("OUT.bvh");
     sub->add_option("--plot", opts->plot, "Draw input and texture as DOF x frame images with the seams (PNG)")
         ->type_name("OUT.png");
+    add_view_option(*sub, opts->view, "the input and the texture, seams and overlap passes on the timeline");
     sub->add_option("--texton", opts->texton_output, "Write the texton (one loop) to this BVH file")->type_name("OUT.bvh");
     opts->m_opt = sub->add_option("-m", opts->m, "Frames of M1 (the clip's first) and M2 (its last); default 100, or half a shorter clip")
                       ->type_name("M")

@@ -56,6 +56,12 @@ std::string make_view_page(const view_page& page);
 /// clips, 3 markers, 1.2 MB, WebGL (three.js 0.170.0) or 2D canvas".
 std::string write_view_page(const std::string& path, const view_page& page);
 
+/// One marker of `kind` on clip `clip` per run of consecutive frames in
+/// `frames` (sorted or not, repeats allowed), labelled "LABEL (frame a)" or
+/// "LABEL (frames a-b)".
+std::vector<view_marker> frame_markers(std::size_t clip, std::vector<std::size_t> frames, const std::string& kind,
+                                       const std::string& label);
+
 /// Adds `--view PAGE.html` to a subcommand that makes motion.
 CLI::Option* add_view_option(CLI::App& sub, std::string& path, const std::string& what);
 

@@ -26,7 +26,8 @@
   const CONTACT_COLOUR = '#1fae4b';
   const TARGET_COLOUR = '#e0202a';
   const MARKER_COLOURS = {
-    seam: '#d62728', overlap: '#ff9f1c', transition: '#7b4fc9', turn: '#1f63c6', key: '#2a9d5c', target: '#e0202a'
+    seam: '#d62728', overlap: '#ff9f1c', transition: '#7b4fc9', turn: '#1f63c6', jump: '#1b8fb0', key: '#2a9d5c',
+    target: '#e0202a', m1: '#28a046', m2: '#285ac8'
   };
 
   // --- the clips ------------------------------------------------------------
@@ -279,7 +280,7 @@
     g.textAlign = 'left';
     const lx = 8;
     kinds.forEach(function (kind, i) {
-      const y = markTop + 6 + i * 12;
+      const y = markTop + 5 + i * 11;
       if (y > markBottom) return;
       g.fillStyle = MARKER_COLOURS[kind] || '#555';
       g.fillRect(lx, y - 4, 8, 8);
