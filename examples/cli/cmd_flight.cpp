@@ -5,6 +5,7 @@
 // after (--plot, the paper's Fig 7) and the figures (--json).
 #include "commands.hpp"
 #include "common.hpp"
+#include "view_page.hpp"
 
 #include <anima/flight.hpp>
 
@@ -29,7 +30,7 @@ extern const char* const cmu31_skeleton_bvh;
 namespace {
 
 struct flight_options {
-    std::string keys_path, example, clip, output, plot;
+    std::string keys_path, example, clip, output, plot, view;
     int model = 2, iterations = 100, quadrature = 4;
     std::size_t keys = 8;
     double body_mass = 70;
@@ -77,7 +78,7 @@ void write_plot(const std::string& path, const std::vector<double>& before, cons
 }
 
 void run_flight(const flight_options& o) {
-    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}});
+    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--view", &o.view}});
     if (!o.keys_path.empty() + !o.example.empty() + !o.clip.empty() != 1)
         throw CLI::ValidationError("flight", "give one of KEYS.json, --example somersault or --clip CLIP.bvh");
     const anima::flight_key_set_defaults<double> defaults{o.body_mass};
@@ -119,9 +120,28 @@ void run_flight(const flight_options& o) {
     const auto drift_json = [](const std::optional<double>& d) { return d ? json(*d) : json(nullptr); };
     const auto drift_text = [](const std::optional<double>& d) { return d ? format_number(*d, 3) : std::string("not defined"); };
 
+    constexpr double frame_time = 1.0 / 60.0;
     if (!o.output.empty()) {
-        const auto c = anima::flight_clip(problem, r.optimized, in.skeleton, in.metres_per_unit, 1.0 / 60.0);
+        const auto c = anima::flight_clip(problem, r.optimized, in.skeleton, in.metres_per_unit, frame_time);
         anima::write_bvh(c, o.output);
+    }
+    std::string page_written;
+    if (!o.view.empty()) {
+        // The initial and the optimised timing side by side, each key marked.
+        view_page page;
+        page.title = "Flight of " + in.name + ": initial and optimised key times (model " + std::to_string(o.model) + ")";
+        page.clips = {{"initial timing", anima::flight_clip(problem, r.initial, in.skeleton, in.metres_per_unit, frame_time)},
+                      {"optimised", anima::flight_clip(problem, r.optimized, in.skeleton, in.metres_per_unit, frame_time)}};
+        for (std::size_t clip = 0; clip < 2; ++clip) {
+            const auto& times = clip == 0 ? r.initial.times : r.optimized.times;
+            const std::size_t last = page.clips[clip].motion.frames() - 1;
+            for (std::size_t k = 0; k < times.size(); ++k) {
+                const auto frame = std::min(last, static_cast<std::size_t>(std::llround(std::max(0.0, times[k]) / frame_time)));
+                page.markers.push_back({clip, frame, frame, "key",
+                                        "key " + std::to_string(k + 1) + " at " + format_fixed(times[k], 3) + " s"});
+            }
+        }
+        page_written = write_view_page(o.view, page);
     }
     if (!o.plot.empty())
         write_plot(o.plot, r.initial.times, r.optimized.times,
@@ -145,6 +165,7 @@ void run_flight(const flight_options& o) {
             out["key_frames"] = from_clip->key_frames;
         }
         out["objective_history"] = r.history;
+        if (!o.view.empty()) out["view"] = o.view;
         print_json(out);
         return;
     }
@@ -160,6 +181,7 @@ void run_flight(const flight_options& o) {
     for (std::size_t k = 0; k < r.initial.times.size(); ++k)
         std::cout << "  " << k + 1 << (k + 1 < 10 ? "    " : "   ") << format_fixed(r.initial.times[k], 3) << "        "
                   << format_fixed(r.optimized.times[k], 3) << "\n";
+    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
 }
 
 }  // namespace
@@ -194,6 +216,7 @@ void register_flight(CLI::App& app) {
     sub->add_option("-o,--output", opts->output, "Write the optimised motion (60 frames/s) to this BVH file")
         ->type_name("OUT.bvh");
     sub->add_option("--plot", opts->plot, "Plot initial and optimised key times (SVG)")->type_name("OUT.svg");
+    add_view_option(*sub, opts->view, "the initial and the optimised timing, the keys marked");
     sub->add_flag("--progress", opts->progress, "Report every iteration on stderr (runs longer than 2 s always do)");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_flight(*opts); });

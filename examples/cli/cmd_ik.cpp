@@ -9,6 +9,7 @@
 // null space, so the result stays smooth.
 #include "commands.hpp"
 #include "common.hpp"
+#include "view_page.hpp"
 
 #include <anima/ik.hpp>
 
@@ -29,7 +30,7 @@ namespace anima_cli {
 namespace {
 
 struct ik_options {
-    std::string input, output, solver = "dls", offset, frames, by, model_out, targets_file;
+    std::string input, output, view, solver = "dls", offset, frames, by, model_out, targets_file;
     std::size_t frame = 0;
     std::vector<std::string> effectors, targets, train;
     int iterations = 100, restarts = 3;
@@ -250,7 +251,7 @@ json effector_report(const anima::clip_ik_result<double>& solved, const std::vec
 }
 
 void run_ik(const ik_options& o) {
-    check_outputs({{"--output", &o.output}, {"--save-model", &o.model_out}});
+    check_outputs({{"--output", &o.output}, {"--save-model", &o.model_out}, {"--view", &o.view}});
     const auto start = std::chrono::steady_clock::now();
     clip_t c = load_clip(o.input);
     const auto& sk = c.skeleton();
@@ -284,13 +285,16 @@ void run_ik(const ik_options& o) {
     // once, in its order).
     std::vector<anima::frame_goals<double>> goals;
     std::vector<wanted_list> goal_names;
+    std::vector<view_target> shown;  // every goal's world position, for --view
     for (const auto& [f, listed] : per_frame) {
         const auto frame_wanted = learned ? in_model_order(listed, wanted, f) : listed;
         const auto truth = anima::forward_kinematics(c, f);
         anima::frame_goals<double> g{f, {}};
         for (const auto& w : frame_wanted) {
             const auto j = sk.index_of(w.first);
-            g.goals.push_back(anima::position_goal<double>(j, offset_mode ? vec3(truth.positions[j] + w.second) : w.second));
+            const vec3 target = offset_mode ? vec3(truth.positions[j] + w.second) : w.second;
+            g.goals.push_back(anima::position_goal<double>(j, target));
+            for (const std::size_t clip : {std::size_t{0}, std::size_t{1}}) shown.push_back({clip, f, target, w.first});
         }
         goals.push_back(std::move(g));
         goal_names.push_back(frame_wanted);
@@ -317,6 +321,19 @@ void run_ik(const ik_options& o) {
         return std::move(r);
     };
     const auto solved = anima::solve_clip_ik(s.tree, c, goals, solve, cp);
+    std::string page_written;
+    if (!o.view.empty()) {
+        view_page page;
+        page.title = "IK on " + file_name(o.input) + " (" + o.solver + ")";
+        page.clips = {{"before", c}, {"after", solved.edited}};
+        page.targets = shown;
+        std::vector<std::size_t> frames;
+        std::vector<std::string> names;
+        for (const auto& w : wanted) names.push_back(w.first);
+        for (const auto& g : goals) frames.push_back(g.frame);
+        page.markers = frame_markers(1, frames, "target", "targets of " + join(names));
+        page_written = write_view_page(o.view, page);
+    }
     c = solved.edited;
 
     const json effectors = effector_report(solved, goal_names, clusters, s.params.tolerance, smooth);
@@ -337,6 +354,7 @@ void run_ik(const ik_options& o) {
                 {"max_joint_step_deg_before", solved.max_joint_step_before * 180 / anima::pi<double>},
                 {"max_joint_step_deg_after", solved.max_joint_step_after * 180 / anima::pi<double>}};
     if (!o.output.empty()) out["output"] = o.output;
+    if (!o.view.empty()) out["view"] = o.view;
     if (o.json) {
         print_json(out);
         return;
@@ -345,6 +363,7 @@ void run_ik(const ik_options& o) {
               << ": " << converged_frames << " converged, largest error " << format_number(worst, 3) << " (tolerance "
               << format_number(s.params.tolerance, 3) << "), " << iterations << " iterations, "
               << format_number(seconds, 3) << " s\n";
+    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
 }
 
 }  // namespace
@@ -373,6 +392,7 @@ void register_ik(CLI::App& app) {
     sub->add_option("--restarts", o->restarts, "Random restarts after a failed attempt (target mode)")
         ->check(integer_in(0, 1000));
     sub->add_option("-o,--output", o->output, "Output BVH file");
+    add_view_option(*sub, o->view, "the clip before and after, the targets shown");
     sub->add_flag("--json", o->json, "Print the result as JSON");
     sub->callback([o] { run_ik(*o); });
 }

@@ -4,6 +4,7 @@
 // similar frames like a video texture.
 #include "commands.hpp"
 #include "common.hpp"
+#include "view_page.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -20,7 +21,7 @@ namespace anima_cli {
 namespace {
 
 struct playback_options {
-    std::string input, output, root = "accumulated";
+    std::string input, output, view, root = "accumulated";
     frame_range_options range;
     symmetry_options symmetry;
     std::size_t frames = 0, start = 0;
@@ -40,7 +41,7 @@ std::string some_positions(const std::vector<std::size_t>& positions, std::size_
 }
 
 void run_playback(const playback_options& o) {
-    check_outputs({{"--output", &o.output}});
+    check_outputs({{"--output", &o.output}, {"--view", &o.view}});
     const anima::symmetry_params<double> params = make_symmetry_params(o.symmetry);
     const motion_range m = load_motion_range(o.input, o.range);
     check_request_memory(static_cast<double>(o.frames), bytes_per_frame(m.clip.skeleton()),
@@ -59,9 +60,8 @@ void run_playback(const playback_options& o) {
     const std::string mode = o.video_texture ? "video_texture" : o.fixed ? "fixed" : "adaptive";
     json out = {{"input", o.input}, {"mode", mode}, {"seed", o.seed}, {"root", o.root},
                 {"first", m.first}, {"last", last}, {"frames", o.frames}, {"frame_time", dt}};
-    std::vector<std::size_t> stream;
-    std::string summary;               // the text lines about turns or jumps
-    std::vector<std::size_t> events;  // output frames of the turns or jumps: feet are planted there
+    std::vector<std::size_t> stream, events;  // events: output frames of the turns or jumps (markers, planting)
+    std::string summary;                       // the text lines about turns or jumps
     if (o.video_texture) {
         const auto table = anima::video_texture_jumps(m.features, dt);
         anima::video_texture_playback<double> playback(table, o.seed, start);
@@ -122,7 +122,8 @@ void run_playback(const playback_options& o) {
 
     anima::bvh_write_options write;
     write.decimals = std::max(6, m.decimals);
-    if (!o.output.empty() || o.json) {
+    std::string page_written;
+    if (!o.output.empty() || o.json || !o.view.empty()) {
         anima::resequence_params rp;
         rp.root = anima::parse_root_path(o.root);
         rp.up = m.up;
@@ -150,6 +151,15 @@ void run_playback(const playback_options& o) {
         const double in = anima::foot_skate(anima::find_contacts(m.clip, cp)).median;
         const double played = anima::foot_skate(anima::find_contacts(result, cp)).median;
         out["foot_skate"] = {{"input", in}, {"output", played}, {"ratio", in > 0 ? json(played / in) : json(nullptr)}};
+        if (!o.view.empty()) {
+            view_page page;
+            page.title = mode + " playback of " + file_name(o.input) + ", seed " + std::to_string(o.seed);
+            page.clips = {{"input " + file_name(o.input), m.clip}, {"played", result}};
+            page.markers = o.video_texture ? frame_markers(1, events, "jump", "jump to a similar frame")
+                                           : frame_markers(1, events, "turn", "turn: plays the other way");
+            page_written = write_view_page(o.view, page);
+            out["view"] = o.view;
+        }
     }
 
     if (o.json) {
@@ -167,6 +177,7 @@ void run_playback(const playback_options& o) {
     if (!o.output.empty())
         std::cout << "wrote " << o.output << ": " << o.frames << " frames, root path " << o.root << ", "
                   << write.decimals << " decimals\n";
+    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
 }
 
 }  // namespace
@@ -183,6 +194,7 @@ void register_playback(CLI::App& app) {
         ->type_name("N")
         ->check(integer_in(1, max_frames));
     sub->add_option("-o,--output", opts->output, "Write the new motion to this BVH file")->type_name("OUT.bvh");
+    add_view_option(*sub, opts->view, "the input and the new motion, the turns marked");
     sub->add_option("--seed", opts->seed, "Seed of the random turns (same seed, same motion)")
         ->check(count_up_to(~0ULL))
         ->capture_default_str();

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
@@ -13,6 +14,7 @@
 #include <memory>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 namespace anima_cli {
@@ -25,12 +27,15 @@ struct render_options {
     std::string view = "front";
     std::string up;
     int width = 0, height = 0;
-    CLI::Option *frames_opt = nullptr, *up_opt = nullptr, *width_opt = nullptr, *height_opt = nullptr;
+    bool animate = false;
+    double fps = 25;
+    std::string span;  // "A-B" for --animate
+    CLI::Option *frames_opt = nullptr, *up_opt = nullptr, *width_opt = nullptr, *height_opt = nullptr, *span_opt = nullptr;
 };
 
 // Layout in pixels.
 constexpr double title_height = 34;   // title line at the top
-constexpr double caption_height = 36; // frame number and time under each panel
+constexpr double caption_height = 50; // frame number and time under each panel, the scale bar
 constexpr double padding = 12;        // around each figure
 constexpr double default_height = 360;
 constexpr double min_panel_width = 110;
@@ -161,23 +166,161 @@ projection project_frames(const clip_t& clip, const std::vector<std::size_t>& fr
     return {std::move(panels), xmin, xmax, ymin, ymax};
 }
 
+/// The up axis given, or guessed (with a warning when the guess has nothing to go on).
+anima::signed_axis render_up_axis(const render_options& o, const skeleton_t& sk) {
+    if (o.up_opt->count() > 0) return parse_signed_axis(o.up);
+    const anima::up_axis_guess guess = anima::guess_up_axis(sk);
+    if (!guess.confident)
+        std::cerr << "anima: warning: cannot tell the up axis of '" << o.input
+                  << "' (no head, neck or foot joint); assuming " << anima::to_string(guess.up)
+                  << ", use --up to say otherwise\n";
+    return guess.up;
+}
+
+/// A bar of a round length (in metres when the unit guess is confident,
+/// else in file units) at (x, y), `scale` pixels per file unit.
+void scale_bar(svg_document& svg, double x, double y, double scale, const skeleton_t& sk, anima::signed_axis up) {
+    const anima::unit_guess units = anima::guess_units(sk, up);
+    const double per_unit = units.confident ? units.metres_per_unit : 1.0;
+    // The largest of 1, 2, 5 x 10^k (metres or units) under 90 pixels.
+    double length = 1e-6;
+    for (double power = 1e-6; power < 1e9; power *= 10)
+        for (const double m : {1.0, 2.0, 5.0})
+            if (m * power / per_unit * scale <= 90) length = m * power;
+    const double pixels = length / per_unit * scale;
+    svg.line(x, y, x + pixels, y, "#444", 2);
+    svg.line(x, y - 4, x, y + 4, "#444", 1);
+    svg.line(x + pixels, y - 4, x + pixels, y + 4, "#444", 1);
+    const std::string label = units.confident ? (length >= 1 ? format_number(length) + " m" : format_number(length * 100) + " cm")
+                                              : format_number(length) + " file units";
+    svg.text(x + pixels + 6, y + 4, label, 11, "#444");
+}
+
+/// "A-B" to frames, within the clip (the whole clip when not given).
+std::pair<std::size_t, std::size_t> animate_span(const render_options& o, std::size_t frames) {
+    if (o.span_opt->count() == 0) return {0, frames - 1};
+    const failure bad("--span '" + o.span + "' is not a range A-B within 0.." + std::to_string(frames - 1) + " of '" +
+                      o.input + "'");
+    std::string list = o.span;
+    std::replace(list.begin(), list.end(), '-', ',');
+    std::vector<long long> ends;
+    try {
+        ends = parse_frame_list(list);
+    } catch (const failure&) {
+        throw bad;
+    }
+    if (ends.size() != 2 || ends[1] < ends[0] || static_cast<unsigned long long>(ends[1]) >= frames) throw bad;
+    return {static_cast<std::size_t>(ends[0]), static_cast<std::size_t>(ends[1])};
+}
+
+/// --animate: one line per bone whose ends move through the sampled frames
+/// (SMIL <animate>, looping), the figure kept centred over its root as in
+/// the filmstrip; a ground line, a scale bar and a time axis whose bar
+/// fills as the animation plays.
+void run_animate(const render_options& o, const clip_t& clip, const view_basis& basis, anima::signed_axis up) {
+    const skeleton_t& sk = clip.skeleton();
+    const auto [first, last] = animate_span(o, clip.frames());
+    const std::size_t step = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(clip.frame_rate() / o.fps)));
+    std::vector<std::size_t> frames;
+    for (std::size_t f = first; f <= last; f += step) frames.push_back(f);
+    check_request_memory(static_cast<double>(frames.size()) * static_cast<double>(sk.size() * 2), 4 * 8,
+                         "an animation of " + std::to_string(frames.size()) + " frames", "--span or --fps");
+    // Bones in a fixed order (each <line> is one bone all along): the
+    // figure's left side first, its right side last.
+    struct bone { std::size_t from, to; bool end_site; anima::body_side side; };
+    std::vector<bone> bones;
+    for (std::size_t j = 0; j < sk.size(); ++j) {
+        const anima::body_side side = anima::side_of(sk[j].name);
+        if (sk[j].parent >= 0) bones.push_back({static_cast<std::size_t>(sk[j].parent), j, false, side});
+        if (sk[j].end_site) bones.push_back({j, j, true, side});
+    }
+    const auto rank = [](anima::body_side s) { return s == anima::body_side::left ? 0 : s == anima::body_side::right ? 2 : 1; };
+    std::stable_sort(bones.begin(), bones.end(), [&](const bone& a, const bone& b) { return rank(a.side) < rank(b.side); });
+
+    // Projected ends per frame and bone: x1, y1, x2, y2.
+    std::vector<std::array<double, 4>> ends(frames.size() * bones.size());
+    double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
+    anima::global_pose<double> pose;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        anima::forward_kinematics(clip, frames[i], pose);
+        const std::vector<vec3> sites = anima::end_site_positions(sk, pose);
+        const vec3 root = pose.positions[0];
+        const double rx = root.dot(basis.right), ry = basis.vertical ? 0.0 : root.dot(basis.up);
+        for (std::size_t b = 0; b < bones.size(); ++b) {
+            const vec3& p = pose.positions[bones[b].from];
+            const vec3& q = bones[b].end_site ? sites[bones[b].to] : pose.positions[bones[b].to];
+            auto& e = ends[i * bones.size() + b];
+            e = {p.dot(basis.right) - rx, p.dot(basis.up) - ry, q.dot(basis.right) - rx, q.dot(basis.up) - ry};
+            xmin = std::min({xmin, e[0], e[2]}), xmax = std::max({xmax, e[0], e[2]});
+            ymin = std::min({ymin, e[1], e[3]}), ymax = std::max({ymax, e[1], e[3]});
+        }
+    }
+    if (!std::isfinite(xmin)) throw failure("'" + o.input + "' has no bones to animate");
+    const double extent = std::max({xmax - xmin, ymax - ymin, 1e-9});
+    const double height = o.height_opt->count() ? o.height : default_height;
+    const double top = title_height + padding, bottom = 58;  // under the figure: scale bar, time axis
+    const double area_h = std::max(10.0, height - top - bottom);
+    const double scale = area_h / std::max(ymax - ymin, extent * 0.05);
+    const double width = o.width_opt->count() ? o.width : std::max(min_default_width, (xmax - xmin) * scale + 2 * padding + 40);
+    const double cx = width / 2 - (xmin + xmax) / 2 * scale, base = top + area_h;
+    const auto px = [&](double x) { return cx + x * scale; };
+    const auto py = [&](double y) { return base - (y - ymin) * scale; };
+    const double seconds = static_cast<double>(frames.size()) * static_cast<double>(step) * clip.frame_time();
+    const std::string dur = svg_number(seconds) + "s";
+
+    const std::string name = file_name(o.input), view_name = o.view + " view";
+    svg_document svg(width, height, name + ": " + view_name + ", animated");
+    svg.rect(0, 0, width, height, "#ffffff");
+    svg.text(10, 22, name + " (" + view_name + ", frames " + std::to_string(first) + "-" + std::to_string(last) + " at " +
+                         format_number(clip.frame_rate(), 4) + " fps)",
+             13, "#222", "start", true);
+    if (basis.vertical) svg.line(6, py(ymin), width - 6, py(ymin), "#9a9a9a", 1);
+    const double stroke = std::clamp((ymax - ymin) * scale / 70, 1.2, 4.0);
+    svg.raw("<g stroke-linecap=\"round\">");
+    for (std::size_t b = 0; b < bones.size(); ++b) {
+        const auto& e0 = ends[b];
+        std::string line = "<line x1=\"" + svg_number(px(e0[0])) + "\" y1=\"" + svg_number(py(e0[1])) + "\" x2=\"" +
+                           svg_number(px(e0[2])) + "\" y2=\"" + svg_number(py(e0[3])) + "\" stroke=\"" +
+                           colour(bones[b].side) + "\" stroke-width=\"" + svg_number(stroke) + "\">";
+        static const char* const attributes[] = {"x1", "y1", "x2", "y2"};
+        for (std::size_t k = 0; k < 4; ++k) {
+            line += "<animate attributeName=\"" + std::string(attributes[k]) + "\" dur=\"" + dur +
+                    "\" repeatCount=\"indefinite\" values=\"";
+            for (std::size_t i = 0; i < frames.size(); ++i) {
+                const double v = ends[i * bones.size() + b][k];
+                line += (i ? ";" : "") + svg_number(k % 2 ? py(v) : px(v));
+            }
+            line += "\"/>";
+        }
+        svg.raw(line + "</line>");
+    }
+    svg.raw("</g>");
+    scale_bar(svg, 12, base + 18, scale, sk, up);
+    // Time axis: a bar that fills as the animation plays, ticks in seconds.
+    const double ax = 12, aw = width - 24, ay = height - 22;
+    svg.rect(ax, ay - 4, aw, 4, "#e6e6e6");
+    svg.raw("<rect x=\"" + svg_number(ax) + "\" y=\"" + svg_number(ay - 4) + "\" width=\"0\" height=\"4\" fill=\"#666\">"
+            "<animate attributeName=\"width\" from=\"0\" to=\"" + svg_number(aw) + "\" dur=\"" + dur +
+            "\" repeatCount=\"indefinite\"/></rect>");
+    for (const double t : nice_ticks(0, seconds, 6)) {
+        svg.line(ax + aw * t / seconds, ay, ax + aw * t / seconds, ay + 3, "#666", 1);
+        svg.text(ax + aw * t / seconds, ay + 14, format_number(t, 4) + " s", 10, "#444", "middle");
+    }
+    write_text_file(o.output, svg.str());
+    std::cout << "wrote " << o.output << ": " << frames.size() << " frames of " << o.input << " (" << first << "-" << last
+              << ", every " << step << (step == 1 ? "st" : "th") << "), " << view_name << ", looping every "
+              << format_number(seconds, 4) << " s, " << svg_number(width) << "x" << svg_number(height) << " px\n";
+}
+
 void run_render(const render_options& o) {
     check_outputs({{"OUT", &o.output}});
     const clip_t clip = load_clip(o.input);
     if (clip.empty()) throw failure("'" + o.input + "' has no frames to render");
     const skeleton_t& sk = clip.skeleton();
-    const std::vector<std::size_t> frames = choose_frames(o, clip.frames());
-
-    anima::signed_axis up = parse_signed_axis(o.up.empty() ? "+Y" : o.up);
-    if (o.up_opt->count() == 0) {
-        const anima::up_axis_guess guess = anima::guess_up_axis(sk);
-        up = guess.up;
-        if (!guess.confident)
-            std::cerr << "anima: warning: cannot tell the up axis of '" << o.input
-                      << "' (no head, neck or foot joint); assuming " << anima::to_string(up)
-                      << ", use --up to say otherwise\n";
-    }
+    const anima::signed_axis up = render_up_axis(o, sk);
     const view_basis basis = make_view(o.view, up, anima::left_axis(sk, up));
+    if (o.animate) return run_animate(o, clip, basis, up);
+    const std::vector<std::size_t> frames = choose_frames(o, clip.frames());
 
     projection projected = project_frames(clip, frames, basis);
     const std::vector<panel>& panels = projected.panels;
@@ -227,8 +370,8 @@ void run_render(const render_options& o) {
     svg.text(10, 22, name + " (" + view_name + ", " + std::to_string(clip.frames()) + " frames at " +
                          format_number(clip.frame_rate(), 4) + " fps)",
              14, "#222", "start", true);
-    svg.text(width - 10, 22, "right", 12, colour_right, "end", true);
-    svg.text(width - 52, 22, "left", 12, colour_left, "end", true);
+    svg.text(width - 10, height - 4, "right", 12, colour_right, "end", true);
+    svg.text(width - 52, height - 4, "left", 12, colour_left, "end", true);
 
     for (std::size_t i = 0; i < n; ++i) {
         const panel& pn = panels[i];
@@ -251,6 +394,7 @@ void run_render(const render_options& o) {
         svg.text(cx, cy + 15, format_fixed(static_cast<double>(pn.frame) * clip.frame_time(), 3) + " s", 11, "#666",
                  "middle");
     }
+    scale_bar(svg, 10, height - 8, scale, sk, up);
     write_text_file(o.output, svg.str());
 
     std::vector<std::string> listed;
@@ -301,5 +445,17 @@ void register_render(CLI::App& app) {
     opts->height_opt = sub->add_option("--height", opts->height, "Height of the image (default: 360)")
                            ->type_name("PX")
                            ->check(integer_in(120, 100000));
+    auto* animate = sub->add_flag("--animate", opts->animate,
+                                  "Write one stick figure that moves through the frames (an animated SVG that loops, for web "
+                                  "pages and READMEs) instead of a filmstrip")
+                        ->excludes(opts->frames_opt)
+                        ->excludes(count);
+    sub->add_option("--fps", opts->fps, "--animate: frames per second kept from the clip (every k-th frame)")
+        ->check(number_in(1, 240))
+        ->capture_default_str()
+        ->needs(animate);
+    opts->span_opt = sub->add_option("--span", opts->span, "--animate: the frames to play, A-B (default: all)")
+                         ->type_name("A-B")
+                         ->needs(animate);
     sub->callback([opts] { run_render(*opts); });
 }

@@ -32,24 +32,6 @@ constexpr int default_matrix_pixels = 1024;
 // Labels on the score plot: at most this many, the highest scores first.
 constexpr std::size_t max_plot_labels = 12;
 
-/// Tick positions 1, 2 or 5 times a power of ten apart, about `count` of
-/// them over [lo, hi].
-std::vector<double> nice_ticks(double lo, double hi, int count) {
-    std::vector<double> out;
-    const double span = hi - lo;
-    if (!(span > 0)) return {lo};
-    const double raw = span / count;
-    const double power = std::pow(10.0, std::floor(std::log10(raw)));
-    double step = power;
-    for (const double m : {1.0, 2.0, 5.0, 10.0})
-        if (m * power >= raw) {
-            step = m * power;
-            break;
-        }
-    for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * span; t += step) out.push_back(t);
-    return out;
-}
-
 std::string describe(const symmetry_cli_options& o, const anima::symmetry_params<double>& p) {
     return o.symmetry.metric + ", window " + std::to_string(p.radius) + ", smoothness " + std::to_string(p.smoothness);
 }
@@ -138,12 +120,53 @@ void write_score_plot(const std::string& path, const std::string& input, const m
     write_text_file(path, svg.str());
 }
 
+/// The distance matrix as an SVG figure: the image, frame axes, a title
+/// and a grey scale bar with the distance's units.
+std::string matrix_svg(const std::string& png, const std::string& name, const motion_range& m,
+                       const anima::symmetry_params<double>& params, double white) {
+    const double side = 560, left = 70, top = 60, right = 180, bottom = 56;
+    const double width = left + side + right, height = top + side + bottom;
+    const std::size_t n = m.clip.frames();
+    const double first = static_cast<double>(m.first), last = static_cast<double>(m.first + n - 1);
+    const bool mahalanobis = params.distance.metric == anima::frame_metric::mahalanobis;
+    svg_document svg(width, height, "Frame distances of " + name);
+    svg.rect(0, 0, width, height, "#ffffff");
+    svg.text(left, 22, "Frame distances of " + name + ", frames " + format_number(first, 10) + ".." + format_number(last, 10),
+             14, "#222", "start", true);
+    svg.text(left, 40, std::string(mahalanobis ? "square root of Eq 2 (Mahalanobis)" : "Eq 1 (L2)") +
+                           " between every two frames; dark valleys across the diagonal: where the motion mirrors itself",
+             11, "#555");
+    svg.image(left, top, side, side, png);
+    svg.rect(left, top, side, side, "none", "#444", 1);
+    const auto at = [&](double frame) { return (frame - first + 0.5) / static_cast<double>(n) * side; };
+    for (const double f : nice_ticks(first, last, 8)) {
+        svg.line(left + at(f), top + side, left + at(f), top + side + 4, "#444", 1);
+        svg.text(left + at(f), top + side + 16, format_number(f, 10), 10, "#444", "middle");
+        svg.line(left - 4, top + at(f), left, top + at(f), "#444", 1);
+        svg.text(left - 6, top + at(f) + 3, format_number(f, 10), 10, "#444", "end");
+    }
+    const std::string fps = format_number(m.clip.frame_rate(), 4);
+    svg.text(left + side / 2, height - 14, "frame (" + fps + " per second)", 12, "#222", "middle");
+    svg.raw("<text x=\"16\" y=\"" + svg_number(top + side / 2) + "\" font-size=\"12\" fill=\"#222\" text-anchor=\"middle\" "
+            "transform=\"rotate(-90 16 " + svg_number(top + side / 2) + ")\">frame (" + fps + " per second)</text>");
+    const double bx = left + side + 24;
+    svg.raw("<defs><linearGradient id=\"grey\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\"><stop offset=\"0\" stop-color=\"#000\"/>"
+            "<stop offset=\"1\" stop-color=\"#fff\"/></linearGradient></defs>");
+    svg.rect(bx, top, 14, side / 2, "url(#grey)", "#444", 0.5);
+    svg.text(bx + 20, top + 9, format_number(white, 3) + " or more", 10, "#333");
+    svg.text(bx + 20, top + 22, "(99th percentile)", 10, "#333");
+    svg.text(bx + 20, top + side / 2, "0: the same pose", 10, "#333");
+    svg.text(bx, top + side / 2 + 22, mahalanobis ? "distance: sqrt of Eq 2," : "distance: Eq 1,", 10, "#333");
+    svg.text(bx, top + side / 2 + 35, mahalanobis ? "feature standard deviations" : "the features' units", 10, "#333");
+    return svg.str();
+}
+
 struct matrix_image {
     int size = 0;
     double white = 0;  // the distance drawn white (and everything above it)
 };
 
-matrix_image write_distance_matrix(const std::string& path, const motion_range& m,
+matrix_image write_distance_matrix(const std::string& path, const std::string& input, const motion_range& m,
                                    const anima::symmetry_params<double>& params, int requested_size) {
     const std::size_t n = m.clip.frames();
     const auto distance = anima::make_frame_distance(m.features, m.clip.frame_time(), params.distance);
@@ -179,7 +202,10 @@ matrix_image write_distance_matrix(const std::string& path, const motion_range& 
         const double g = out.white > 0 ? std::min(1.0, value[k] / out.white) : 0.0;
         pixels[k] = static_cast<unsigned char>(std::lround(255 * g));
     }
-    write_png(path, out.size, out.size, 1, pixels, "--matrix");
+    if (is_svg_path(path))
+        write_text_file(path, matrix_svg(png_bytes(out.size, out.size, 1, pixels, "--matrix"), file_name(input), m, params, out.white));
+    else
+        write_png(path, out.size, out.size, 1, pixels, "--matrix");
     return out;
 }
 
@@ -201,7 +227,7 @@ void run_symmetry(const symmetry_cli_options& o) {
 
     if (!o.plot.empty()) write_score_plot(o.plot, o.input, m, r, settings, min_pairs);
     matrix_image image;
-    if (!o.matrix.empty()) image = write_distance_matrix(o.matrix, m, params, o.matrix_size);
+    if (!o.matrix.empty()) image = write_distance_matrix(o.matrix, o.input, m, params, o.matrix_size);
 
     if (o.json) {
         json candidates = json::array();
@@ -277,7 +303,7 @@ void register_symmetry(CLI::App& app) {
     add_frame_range_options(*sub, opts->range);
     sub->add_option("--plot", opts->plot, "Draw the score curve with the candidates marked into this SVG file")
         ->type_name("OUT.svg");
-    auto* matrix = sub->add_option("--matrix", opts->matrix, "Draw the frames x frames distance matrix into this PNG file")
+    auto* matrix = sub->add_option("--matrix", opts->matrix, "Draw the frames x frames distance matrix: an SVG figure with axes and a scale bar, or the bare image as PNG")
                        ->type_name("OUT.png");
     sub->add_option("--matrix-size", opts->matrix_size,
                     "Width and height of the --matrix image in pixels (default: one per frame, at most 1024)")

@@ -7,6 +7,7 @@
 // seams marked, as the paper's Fig 3 does.
 #include "commands.hpp"
 #include "common.hpp"
+#include "view_page.hpp"
 
 #include <anima/texture.hpp>
 
@@ -27,7 +28,7 @@ namespace anima_cli {
 namespace {
 
 struct texture_options {
-    std::string input, output, plot, texton_output;
+    std::string input, output, plot, texton_output, view;
     std::size_t frames = 0, m = 100, overlap = 50, blend = 0, first = 0;
     std::uint64_t seed = 1;
     std::string capacity = "normalized", metric = "mahalanobis", smoothing = "1d", solver = "multigrid";
@@ -71,30 +72,42 @@ std::vector<std::vector<std::size_t>> cut_crossings(const anima::motion_texture<
 /// above the input marks M1 (green) and M2 (blue), one above the texture
 /// the passes through the overlap (orange); red pixels are each DOF's
 /// graph-cut seam.
-void write_plot(const std::string& path, const clip_t& input, const anima::motion_texture<double>& t,
-                anima::signed_axis up) {
+struct plot_image {
+    std::vector<unsigned char> rgb;
+    int width = 0, height = 0, in_width = 0, row_h = 0, panel = 0;
+    double scale = 1;                  ///< pixels per frame
+    std::vector<Eigen::Index> shown;   ///< the DOF columns drawn, top to bottom
+    static constexpr int strip = 4, gap = 10;
+    int texture_top() const { return strip + panel + gap + strip; }
+};
+
+plot_image make_plot_image(const clip_t& input, const anima::motion_texture<double>& t, anima::signed_axis up) {
     const auto& layout = t.texton.layout;
     Eigen::MatrixXd a = anima::to_dof_matrix(input, layout), b = anima::to_dof_matrix(t.motion, layout);
+    plot_image img;
     // DOFs that barely move in the input (uncaptured fingers: rounding
     // noise) would show noise stretched to full contrast: left out.
-    std::vector<Eigen::Index> shown;
     for (std::size_t c = 0; c < layout.size(); ++c) {
         const auto& d = layout.dofs[c];
         const auto col = static_cast<Eigen::Index>(c);
         const double range = a.col(col).maxCoeff() - a.col(col).minCoeff();
         const bool ground = d.joint == 0 && d.type == anima::dof::kind::translation && d.component != static_cast<int>(up.axis);
         const double least = d.type == anima::dof::kind::rotation ? anima::radians(2.0) : 1e-3 * anima::figure_height(input.skeleton(), up);
-        if (!ground && range > least) shown.push_back(col);
+        if (!ground && range > least) img.shown.push_back(col);
     }
+    const auto& shown = img.shown;
     if (shown.empty()) throw failure("--plot: no DOF of the input moves by 2 degrees or more");
     const std::size_t n_in = input.frames(), n_out = t.motion.frames();
-    const double scale = std::min(1.0, 1200.0 / static_cast<double>(n_out));  // pixels per frame
-    const int width = std::max(1, static_cast<int>(std::lround(static_cast<double>(n_out) * scale)));
-    const int in_width = std::max(1, static_cast<int>(std::lround(static_cast<double>(n_in) * scale)));
-    const int row_h = std::max(1, 240 / static_cast<int>(shown.size()));
-    const int panel = row_h * static_cast<int>(shown.size()), strip = 4, gap = 10;
-    const int height = strip + panel + gap + strip + panel;
-    std::vector<unsigned char> px(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3, 255);
+    img.scale = std::min(1.0, 1200.0 / static_cast<double>(n_out));
+    const double scale = img.scale;
+    img.width = std::max(1, static_cast<int>(std::lround(static_cast<double>(n_out) * scale)));
+    img.in_width = std::max(1, static_cast<int>(std::lround(static_cast<double>(n_in) * scale)));
+    img.row_h = std::max(3, 270 / static_cast<int>(shown.size()));
+    img.panel = img.row_h * static_cast<int>(shown.size());
+    const int width = img.width, height = img.texture_top() + img.panel, strip = plot_image::strip, row_h = img.row_h;
+    img.height = height;
+    std::vector<unsigned char>& px = img.rgb;
+    px.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3, 255);
     const auto put = [&](int x, int y, const unsigned char* rgb) {
         if (x < 0 || x >= width || y < 0 || y >= height) return;
         std::copy(rgb, rgb + 3, px.begin() + static_cast<std::ptrdiff_t>((static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3));
@@ -115,8 +128,8 @@ void write_plot(const std::string& path, const clip_t& input, const anima::motio
             }
         }
     };
-    draw(a, n_in, in_width, strip);
-    draw(b, n_out, width, strip + panel + gap + strip);
+    draw(a, n_in, img.in_width, strip);
+    draw(b, n_out, width, img.texture_top());
     const unsigned char green[3] = {40, 160, 70}, blue[3] = {40, 90, 200}, orange[3] = {240, 140, 20}, red[3] = {230, 20, 20};
     const auto x_of = [&](std::size_t frame) { return static_cast<int>(static_cast<double>(frame) * scale); };
     const std::size_t m = t.texton.m;
@@ -126,14 +139,112 @@ void write_plot(const std::string& path, const clip_t& input, const anima::motio
         for (int y = 0; y < strip; ++y) put(x, y, blue);
     for (const auto& [first, last] : t.overlap_spans)
         for (int x = x_of(first); x <= x_of(last); ++x)
-            for (int y = 0; y < strip; ++y) put(x, strip + panel + gap + y, orange);
+            for (int y = 0; y < strip; ++y) put(x, img.texture_top() - strip + y, orange);
     const auto crossings = cut_crossings(t);
     for (std::size_t i = 0; i < shown.size(); ++i) {
         const std::size_t r = static_cast<std::size_t>(shown[i]) / 3;
         for (std::size_t k : crossings[r])
-            for (int y = 0; y < row_h; ++y) put(x_of(k), strip + panel + gap + strip + static_cast<int>(i) * row_h + y, red);
+            for (int y = 0; y < row_h; ++y) put(x_of(k), img.texture_top() + static_cast<int>(i) * row_h + y, red);
     }
-    write_png(path, width, height, 3, px, "--plot");
+    return img;
+}
+
+/// The plot as an SVG figure: the image with a title, frame axes (and
+/// seconds), the joints each group of rows belongs to, a colour bar and a
+/// legend of the marks.
+std::string plot_svg(const plot_image& img, const std::string& name, const clip_t& input,
+                     const anima::motion_texture<double>& t) {
+    const double left = 150, right = 200, top = 70, axis = 52;
+    const double w = img.width, panel = img.panel, strip = plot_image::strip;
+    const double in_top = top, out_top = top + strip + panel + axis;  // each panel's strip
+    const double width = left + w + right, height = out_top + strip + panel + axis + 16;
+    const double fps = input.frame_rate();
+    svg_document svg(width, height, "Motion texture of " + name + ": DOF x frame");
+    svg.rect(0, 0, width, height, "#ffffff");
+    svg.text(12, 22, "Motion texture of " + name + ": the input (" + std::to_string(input.frames()) +
+                         " frames) and the texture (" + std::to_string(t.motion.frames()) + " frames), one row per DOF",
+             14, "#222", "start", true);
+    svg.text(12, 40, "colour: each DOF's value within its range in the input (rotations in the file's Euler angles, "
+                     "the root's height); still DOFs and the root's ground position left out",
+             11, "#555");
+    const std::string png = png_bytes(img.width, img.height, 3, img.rgb, "--plot");
+    // The image holds both panels; drawn once, whole, the axes between.
+    const auto texture_pixels = static_cast<double>(img.texture_top() - plot_image::strip);
+    svg.raw("<svg x=\"" + svg_number(left) + "\" y=\"" + svg_number(in_top) + "\" width=\"" + svg_number(w) +
+            "\" height=\"" + svg_number(strip + panel) + "\" viewBox=\"0 0 " + svg_number(img.width) + " " +
+            svg_number(strip + panel) + "\" preserveAspectRatio=\"none\">");
+    svg.image(0, 0, img.width, img.height, png);
+    svg.raw("</svg>");
+    svg.raw("<svg x=\"" + svg_number(left) + "\" y=\"" + svg_number(out_top) + "\" width=\"" + svg_number(w) +
+            "\" height=\"" + svg_number(strip + panel) + "\" viewBox=\"0 " + svg_number(texture_pixels) + " " +
+            svg_number(img.width) + " " + svg_number(strip + panel) + "\" preserveAspectRatio=\"none\">");
+    svg.image(0, 0, img.width, img.height, png);
+    svg.raw("</svg>");
+    // Panel titles, frame axes with seconds.
+    const auto frame_axis = [&](double y, std::size_t frames, const std::string& what) {
+        const double pixels = static_cast<double>(frames) * img.scale;
+        svg.line(left, y, left + pixels, y, "#444", 1);
+        for (const double f : nice_ticks(0, static_cast<double>(frames - 1), 10)) {
+            const double x = left + f * img.scale;
+            svg.line(x, y, x, y + 4, "#444", 1);
+            svg.text(x, y + 15, format_number(f, 10), 10, "#444", "middle");
+        }
+        svg.text(left + pixels, y + 28, "frame of the " + what + " (" + format_number(fps, 4) + " per second: " +
+                                            format_number(static_cast<double>(frames) / fps, 3) + " s)",
+                 11, "#222", "end");
+    };
+    svg.text(left, in_top - 6, "input", 12, "#222", "start", true);
+    svg.text(left, out_top - 6, "texture", 12, "#222", "start", true);
+    frame_axis(in_top + strip + panel, input.frames(), "input");
+    frame_axis(out_top + strip + panel, t.motion.frames(), "texture");
+    // Joint names at their groups of rows (the rows of one joint are adjacent).
+    const auto& layout = t.texton.layout;
+    const auto& sk = input.skeleton();
+    for (const double panel_top : {in_top + strip, out_top + strip}) {
+        for (std::size_t i = 0; i < img.shown.size();) {
+            const std::size_t joint = layout.dofs[static_cast<std::size_t>(img.shown[i])].joint;
+            std::size_t j = i;
+            while (j + 1 < img.shown.size() && layout.dofs[static_cast<std::size_t>(img.shown[j + 1])].joint == joint) ++j;
+            const double y0 = panel_top + static_cast<double>(i * static_cast<std::size_t>(img.row_h));
+            const double y1 = panel_top + static_cast<double>((j + 1) * static_cast<std::size_t>(img.row_h));
+            svg.line(left - 4, y0 + 0.5, left - 4, y1 - 0.5, i % 2 ? "#999" : "#555", 2);
+            const double size = std::min(9.0, std::max(6.0, y1 - y0));
+            if (y1 - y0 >= 6) svg.text(left - 8, (y0 + y1) / 2 + size / 3, sk[joint].name, size, "#333", "end");
+            i = j + 1;
+        }
+    }
+    // Colour bar.
+    const double bx = left + w + 24, by = top + strip, bh = panel;
+    svg.raw("<defs><linearGradient id=\"viridis\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\">"
+            "<stop offset=\"0\" stop-color=\"rgb(68,1,84)\"/><stop offset=\"0.25\" stop-color=\"rgb(59,82,139)\"/>"
+            "<stop offset=\"0.5\" stop-color=\"rgb(33,145,140)\"/><stop offset=\"0.75\" stop-color=\"rgb(94,201,98)\"/>"
+            "<stop offset=\"1\" stop-color=\"rgb(253,231,37)\"/></linearGradient></defs>");
+    svg.rect(bx, by, 14, bh, "url(#viridis)", "#444", 0.5);
+    svg.text(bx + 20, by + 9, "the DOF's", 10, "#333");
+    svg.text(bx + 20, by + 21, "largest value", 10, "#333");
+    svg.text(bx + 20, by + bh / 2 + 4, "(per row)", 10, "#333");
+    svg.text(bx + 20, by + bh - 12, "smallest value", 10, "#333");
+    svg.text(bx + 20, by + bh, "in the input", 10, "#333");
+    // Legend of the marks.
+    const double ly = out_top + strip;
+    const std::pair<const char*, std::string> marks[] = {
+        {"rgb(40,160,70)", "M1: first " + std::to_string(t.texton.m) + " frames"},
+        {"rgb(40,90,200)", "M2: last " + std::to_string(t.texton.m) + " frames"},
+        {"rgb(240,140,20)", "pass through the overlap"},
+        {"rgb(230,20,20)", "graph-cut seam of the row"}};
+    for (std::size_t k = 0; k < 4; ++k) {
+        const double y = ly + static_cast<double>(k) * 18;
+        svg.rect(bx, y, 14, 10, marks[k].first);
+        svg.text(bx + 20, y + 9, marks[k].second, 10, "#333");
+    }
+    return svg.str();
+}
+
+void write_plot(const std::string& path, const clip_t& input, const anima::motion_texture<double>& t,
+                anima::signed_axis up, const std::string& name) {
+    const plot_image img = make_plot_image(input, t, up);
+    if (is_svg_path(path)) write_text_file(path, plot_svg(img, name, input, t));
+    else write_png(path, img.width, img.height, 3, img.rgb, "--plot");
 }
 
 /// The library's parameters from the options; the up axis is the given one
@@ -211,6 +322,34 @@ skate_check check_skate(const clip_t& c, const anima::motion_texture<double>& t,
     return {anima::foot_skate(anima::find_contacts(c, p)).median, anima::foot_skate(anima::find_contacts(t.motion, p)).median};
 }
 
+/// The page of --view: the input (M1 and M2 marked) beside the texture
+/// (each pass through the overlap, the frames where the graph-cut seams
+/// are crossed, and the symmetric passages' turns).
+view_page texture_page(const texture_options& o, const clip_t& c, const anima::motion_texture<double>& t) {
+    view_page page;
+    page.title = "Motion texture of " + file_name(o.input) + ": " + std::to_string(t.motion.frames()) + " frames";
+    page.clips = {{"input " + file_name(o.input), c}, {"texture", t.motion}};
+    const std::size_t m = t.texton.m, n = c.frames();
+    page.markers.push_back({0, 0, m - 1, "m1", "M1, the clip's first " + std::to_string(m) + " frames"});
+    page.markers.push_back({0, n - m, n - 1, "m2", "M2, laid over M1 where they overlap best"});
+    const auto crossings = cut_crossings(t);
+    for (std::size_t pass = 0; pass < t.overlap_spans.size(); ++pass) {
+        const auto [first, last] = t.overlap_spans[pass];
+        page.markers.push_back({1, first, last, "overlap", "pass " + std::to_string(pass + 1) + " through the overlap"});
+        std::vector<std::size_t> seams;
+        for (const auto& row : crossings)
+            for (const std::size_t k : row)
+                if (k >= first && k <= last) seams.push_back(k);
+        if (seams.empty()) continue;
+        const auto [lo, hi] = std::minmax_element(seams.begin(), seams.end());
+        page.markers.push_back({1, *lo, *hi, "seam",
+                                "graph-cut seams crossed in pass " + std::to_string(pass + 1) + " (" +
+                                    std::to_string(seams.size()) + " joint switches)"});
+    }
+    for (const auto& marker : frame_markers(1, t.turns, "turn", "symmetric passage turns")) page.markers.push_back(marker);
+    return page;
+}
+
 struct stage_times {
     double read = 0, write = 0, total = 0;
 };
@@ -283,11 +422,12 @@ json texture_json(const texture_options& o, std::size_t first, const clip_t& c, 
     if (!o.output.empty()) out["output"] = o.output;
     if (!o.texton_output.empty()) out["texton_output"] = o.texton_output;
     if (!o.plot.empty()) out["plot"] = o.plot;
+    if (!o.view.empty()) out["view"] = o.view;
     return out;
 }
 
 void run_texture(const texture_options& o) {
-    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}});
+    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}, {"--view", &o.view}});
     if (!o.plot.empty()) require_png("--plot");
     const auto start = clock_type::now();
     const std::string text = read_text_file(o.input);
@@ -330,7 +470,9 @@ void run_texture(const texture_options& o) {
     write.decimals = decimals;
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(t.motion, write));
     if (!o.texton_output.empty()) write_text_file(o.texton_output, anima::format_bvh(texton.motion, write));
-    if (!o.plot.empty()) write_plot(o.plot, c, t, up);
+    if (!o.plot.empty()) write_plot(o.plot, c, t, up, file_name(o.input));
+    std::string page_written;
+    if (!o.view.empty()) page_written = write_view_page(o.view, texture_page(o, c, t));
     const double write_seconds = seconds_since(write_start);
 
     const seam_check check = check_seams(c, t);
@@ -370,7 +512,11 @@ void run_texture(const texture_options& o) {
               << "\n";
     if (!o.output.empty()) std::cout << "wrote " << o.output << '\n';
     if (!o.texton_output.empty()) std::cout << "wrote " << o.texton_output << " (the texton)\n";
-    if (!o.plot.empty()) std::cout << "wrote " << o.plot << ": input and texture as DOF x frame images, seams in red\n";
+    if (!o.plot.empty())
+        std::cout << "wrote " << o.plot << ": input and texture as DOF x frame images, seams in red"
+                  << (is_svg_path(o.plot) ? " (with axes, joints, colour bar and legend)" : "")
+                  << "\n";
+    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
 }
 
 }  // namespace
@@ -387,8 +533,9 @@ void register_texture(CLI::App& app) {
         ->type_name("N")
         ->check(integer_in(1, max_frames));
     sub->add_option("-o,--output", opts->output, "Write the texture to this BVH file")->type_name("OUT.bvh");
-    sub->add_option("--plot", opts->plot, "Draw input and texture as DOF x frame images with the seams (PNG)")
-        ->type_name("OUT.png");
+    sub->add_option("--plot", opts->plot, "Draw input and texture as DOF x frame images with the seams: an SVG figure with axes, joint labels, colour bar and legend, or the bare image as PNG")
+        ->type_name("OUT.svg|OUT.png");
+    add_view_option(*sub, opts->view, "the input and the texture, seams and overlap passes on the timeline");
     sub->add_option("--texton", opts->texton_output, "Write the texton (one loop) to this BVH file")->type_name("OUT.bvh");
     opts->m_opt = sub->add_option("-m", opts->m, "Frames of M1 (the clip's first) and M2 (its last); default 100, or half a shorter clip")
                       ->type_name("M")

@@ -3,9 +3,11 @@
 // one clip A[..FRAME] + transition + B placed where the transition ends.
 #include "commands.hpp"
 #include "common.hpp"
+#include "view_page.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -14,7 +16,7 @@ namespace anima_cli {
 namespace {
 
 struct transition_options {
-    std::string a, b, output, method = "variable", timing = "velocity";
+    std::string a, b, output, view, method = "variable", timing = "velocity";
     std::size_t at = 0, to = 0;
     double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1;
     bool json = false, no_plant_feet = false;
@@ -28,7 +30,7 @@ void check_frame(std::size_t frame, const clip_t& c, const std::string& path, co
 }
 
 void run_transition(const transition_options& o) {
-    check_outputs({{"--output", &o.output}});
+    check_outputs({{"--output", &o.output}, {"--view", &o.view}});
     const clip_t a = load_clip(o.a);
     const clip_t b = load_clip(o.b);
     check_frame(o.at, a, o.a, "--at");
@@ -99,6 +101,21 @@ void run_transition(const transition_options& o) {
         out["output"] = o.output;
     }
 
+    std::string page_written;
+    if (!o.view.empty()) {
+        // A, B and the joined clip; the switch, the arrival and the window marked.
+        view_page page;
+        page.title = o.method + " transition " + file_name(o.a) + " frame " + std::to_string(o.at) + " -> " +
+                     file_name(o.b) + " frame " + std::to_string(o.to);
+        page.clips = {{"A " + file_name(o.a), a}, {"B " + file_name(o.b), b}, {"joined", joined.motion}};
+        page.markers = {{0, o.at, o.at, "transition", "A switches (--at)"},
+                        {1, o.to, o.to, "transition", "B reached (--to)"},
+                        {2, joined.start_frame, std::min(joined.end_frame, joined.motion.frames() - 1), "transition",
+                         o.method + " transition, " + format_fixed(out["duration"].get<double>(), 3) + " s"}};
+        page_written = write_view_page(o.view, page);
+        out["view"] = o.view;
+    }
+
     if (o.json) {
         print_json(out);
         return;
@@ -128,6 +145,7 @@ void run_transition(const transition_options& o) {
     if (!o.no_plant_feet) std::cout << " (" << format_fixed(as_joined.foot_skate_ratio, 2) << "x before planting)";
     std::cout << '\n';
     if (!o.output.empty()) std::cout << "wrote " << o.output << " (skeleton and offsets of " << file_name(o.a) << ")\n";
+    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
 }
 
 }  // namespace
@@ -149,6 +167,7 @@ void register_transition(CLI::App& app) {
         ->check(count_up_to(max_frames))
         ->capture_default_str();
     sub->add_option("-o,--output", opts->output, "Write the joined clip to this BVH file")->type_name("OUT.bvh");
+    add_view_option(*sub, opts->view, "A, B and the joined clip, the transition marked");
     sub->add_option("--method", opts->method,
                     "variable (the paper's method), cut, crossfade or inertialize")
         ->check(CLI::IsMember({"variable", "cut", "crossfade", "inertialize"}))

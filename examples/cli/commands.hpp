@@ -15,6 +15,7 @@ class App;
 void register_info(CLI::App& app);
 void register_convert(CLI::App& app);
 void register_render(CLI::App& app);
+void register_view(CLI::App& app);
 void register_transition(CLI::App& app);
 void register_symmetry(CLI::App& app);
 void register_playback(CLI::App& app);

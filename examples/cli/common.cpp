@@ -1,6 +1,7 @@
 #include "common.hpp"
 
 #include <anima/core/file_io.hpp>
+#include <anima/core/text.hpp>
 
 #include <algorithm>
 #include <charconv>
@@ -330,6 +331,43 @@ std::string svg_number(double value) {
     return s == "-0" ? "0" : s;
 }
 
+bool is_svg_path(const std::string& path) {
+    return path.size() >= 4 && anima::ascii_equal_ignoring_case(std::string_view(path).substr(path.size() - 4), ".svg");
+}
+
+std::vector<double> nice_ticks(double lo, double hi, int count) {
+    std::vector<double> out;
+    const double span = hi - lo;
+    if (!(span > 0)) return {lo};
+    const double raw = span / count;
+    const double power = std::pow(10.0, std::floor(std::log10(raw)));
+    double step = power;
+    for (const double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * power >= raw) {
+            step = m * power;
+            break;
+        }
+    for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * span; t += step) out.push_back(t);
+    return out;
+}
+
+namespace {
+
+std::string base64(std::string_view bytes) {
+    static const char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    out.reserve((bytes.size() + 2) / 3 * 4);
+    for (std::size_t i = 0; i < bytes.size(); i += 3) {
+        const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+        unsigned v = 0;
+        for (std::size_t k = 0; k < 3; ++k) v = v << 8 | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+        for (std::size_t k = 0; k < 4; ++k) out += k <= n ? digits[(v >> (18 - 6 * k)) & 63] : '=';
+    }
+    return out;
+}
+
+}  // namespace
+
 svg_document::svg_document(double width, double height, std::string title)
     : width_(width), height_(height), title_(std::move(title)) {}
 
@@ -361,6 +399,12 @@ void svg_document::text(double x, double y, std::string_view content, double siz
     body_ += ">" + xml_escape(content) + "</text>\n";
 }
 
+void svg_document::image(double x, double y, double w, double h, std::string_view png) {
+    body_ += "<image x=\"" + svg_number(x) + "\" y=\"" + svg_number(y) + "\" width=\"" + svg_number(w) + "\" height=\"" +
+             svg_number(h) + "\" preserveAspectRatio=\"none\" style=\"image-rendering:pixelated\" xlink:href=\"data:image/png;base64," +
+             base64(png) + "\"/>\n";
+}
+
 void svg_document::raw(std::string_view markup) {
     body_ += markup;
     if (!markup.empty() && markup.back() != '\n') body_ += '\n';
@@ -370,7 +414,7 @@ std::string svg_document::str() const {
     const std::string w = svg_number(width_), h = svg_number(height_);
     std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
     out += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + w + "\" height=\"" + h +
-           "\" viewBox=\"0 0 " + w + " " + h + "\" font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\">\n";
+           "\" viewBox=\"0 0 " + w + " " + h + "\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\">\n";
     out += "<title>" + xml_escape(title_) + "</title>\n";
     out += body_;
     out += "</svg>\n";
@@ -391,23 +435,28 @@ void require_png(std::string_view what_for) {
 #endif
 }
 
-void write_png(const std::string& path, int width, int height, int channels, const std::vector<unsigned char>& pixels,
-               std::string_view what_for) {
+std::string png_bytes(int width, int height, int channels, const std::vector<unsigned char>& pixels,
+                      std::string_view what_for) {
     require_png(what_for);
     if (width < 1 || height < 1 || channels < 1 || channels > 4 ||
         pixels.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels))
-        throw failure("cannot write '" + path + "': " + std::to_string(pixels.size()) + " pixel values for a " +
+        throw failure(std::string(what_for) + ": " + std::to_string(pixels.size()) + " pixel values for a " +
                       std::to_string(width) + "x" + std::to_string(height) + " image with " + std::to_string(channels) +
                       " channels");
-#ifdef ANIMA_HAVE_STB
     std::string png;
+#ifdef ANIMA_HAVE_STB
     const auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
     };
     if (!stbi_write_png_to_func(append, &png, width, height, channels, pixels.data(), width * channels))
-        throw failure(std::string(what_for) + ": cannot encode '" + path + "' as PNG");
-    write_text_file(path, png);
+        throw failure(std::string(what_for) + ": cannot encode a PNG image");
 #endif
+    return png;
+}
+
+void write_png(const std::string& path, int width, int height, int channels, const std::vector<unsigned char>& pixels,
+               std::string_view what_for) {
+    write_text_file(path, png_bytes(width, height, channels, pixels, what_for));
 }
 
 // ---------------------------------------------------------------------------

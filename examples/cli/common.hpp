@@ -170,6 +170,8 @@ public:
     /// anchor: "start", "middle" or "end".
     void text(double x, double y, std::string_view content, double size, std::string_view fill = "#222",
               std::string_view anchor = "start", bool bold = false);
+    /// A PNG file's bytes (png_bytes) drawn into the box, pixels kept sharp.
+    void image(double x, double y, double w, double h, std::string_view png);
     /// Raw markup (e.g. "<g>" / "</g>"), appended as is.
     void raw(std::string_view markup);
 
@@ -187,6 +189,13 @@ private:
 /// A coordinate for SVG output, two decimals, no trailing zeros.
 std::string svg_number(double value);
 
+/// Whether a figure's path asks for SVG (ends in .svg, any case) rather than PNG.
+bool is_svg_path(const std::string& path);
+
+/// Tick positions 1, 2 or 5 times a power of ten apart, about `count` of
+/// them over [lo, hi].
+std::vector<double> nice_ticks(double lo, double hi, int count);
+
 // ---------------------------------------------------------------------------
 // PNG
 // ---------------------------------------------------------------------------
@@ -195,6 +204,11 @@ std::string svg_number(double value);
 /// cannot write PNG files (stb_image_write was not found). Call it before
 /// doing the work whose result is to be written.
 void require_png(std::string_view what_for);
+
+/// 8-bit pixels, rows top to bottom, `channels` values per pixel, encoded
+/// as PNG (the bytes of the file). Throws failure as write_png does.
+std::string png_bytes(int width, int height, int channels, const std::vector<unsigned char>& pixels,
+                      std::string_view what_for);
 
 /// Writes 8-bit pixels, rows top to bottom, `channels` values per pixel
 /// (1 grey, 3 RGB, 4 RGBA), as a PNG file. Throws failure as require_png

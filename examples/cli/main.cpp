@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
     register_info(app);
     register_convert(app);
     register_render(app);
+    register_view(app);
     register_transition(app);
     register_symmetry(app);
     register_playback(app);
