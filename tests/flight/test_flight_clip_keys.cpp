@@ -58,7 +58,9 @@ TEST_CASE("from distorted key times, model (2) returns to the recorded timing of
     for (double& t : distorted.times) t = span * std::pow(t / span, 1.6);  // keys crowd towards the start
     const anima::flight_problem<double> problem(k.key_set.model, distorted, k.key_set.settings);
     anima::flight_optimization_params<double> params;
-    params.solver.max_iterations = 100;
+    // Under the sanitizers a few iterations show the path runs clean; the
+    // return to the recording needs the full run.
+    params.solver.max_iterations = anima_test::sanitized_build ? 6 : 100;
     const auto r = anima::optimize_flight(problem, params);
     double before = 0, after = 0;
     for (std::size_t i = 0; i < distorted.size(); ++i) {
@@ -67,7 +69,8 @@ TEST_CASE("from distorted key times, model (2) returns to the recorded timing of
     }
     CHECK(r.objective_final < r.objective_initial);
     CHECK(before > 0.03);  // 38 ms: the distortion is real
-    CHECK(after < 0.004);  // 1.9 ms: back at the recording
+    if (anima_test::sanitized_build) CHECK(after < before);
+    else CHECK(after < 0.004);  // 1.9 ms: back at the recording
     CHECK(r.optimized.times.front() == 0.0);
     CHECK(r.optimized.times.back() == doctest::Approx(span));
 }

@@ -13,7 +13,8 @@
 #include <anima/ik/clip_ik.hpp>
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>
-#include <anima/ik/solve_with.hpp>
+#include <anima/ik/solve.hpp>
+#include <anima/ik/step_rules.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/contacts.hpp>
 #include <anima/motion/forward_kinematics.hpp>
@@ -57,8 +58,11 @@ struct plant_feet_params {
     /// Weight of the foot's recorded world orientation against its position
     /// (a length, in body heights): the foot keeps its roll.
     T orientation_weight = T(0.05);
-    ik_solver solver = ik_solver::damped_least_squares;
-    clip_ik_params<T> ik;  ///< per-frame solver settings, pose pull, warm start
+    /// Per-frame settings of the damped least squares solve (adaptive
+    /// damping: steady near the straight-leg singularity), pose pull, warm
+    /// start. One solver only, so a texture or transition that plants feet
+    /// does not compile every IK solver.
+    clip_ik_params<T> ik;
 };
 
 template <class T>
@@ -239,11 +243,13 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
         if (!g.goals.empty()) goals.push_back(std::move(g));
     }
     if (goals.empty()) return out;
-    const ik_solver solver = params.solver;
+    typename damped_least_squares<T>::params dls;
+    dls.adaptive = true;
+    const damped_least_squares<T> rule(dls);
     auto solved = solve_clip_ik(
         tree, c, goals,
-        [solver](const kinematic_tree<T>& t, const std::vector<ik_goal<T>>& gs, const ik_vector<T>& start,
-                 const ik_params<T>& p) { return solve_ik_with(solver, t, gs, start, p); },
+        [&rule](const kinematic_tree<T>& t, const std::vector<ik_goal<T>>& gs, const ik_vector<T>& start,
+                const ik_params<T>& p) { return solve_ik(t, gs, start, rule, p); },
         params.ik);
     out.planted = std::move(solved.edited);
     out.frames = solved.frames.size();
