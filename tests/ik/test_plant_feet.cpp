@@ -28,11 +28,19 @@ anima::contact_params<T> height_only() {
     return p;
 }
 
-/// The bundled walk, with the root moved sideways by a 1.3 Hz sway of
-/// `amplitude` file units: the feet, hanging from the root, slide with it.
+/// The bundled walk; under the sanitizers its first 180 frames (four
+/// contact runs), which exercise every path at a third of the IK solves.
+template <class T>
+anima::clip<T> walk() {
+    const auto c = anima::read_bvh<T>(anima_test::bundled("walk_cmu31_02_01.bvh"));
+    return anima_test::sanitized_build ? c.slice(0, 180) : c;
+}
+
+/// The walk, with the root moved sideways by a 1.3 Hz sway of `amplitude`
+/// file units: the feet, hanging from the root, slide with it.
 template <class T>
 anima::clip<T> swayed_walk(T amplitude) {
-    auto c = anima::read_bvh<T>(anima_test::bundled("walk_cmu31_02_01.bvh"));
+    auto c = walk<T>();
     for (std::size_t f = 0; f < c.frames(); ++f) {
         auto p = c.root_position(f);
         p.x() += amplitude * T(std::sin(2 * 3.14159265358979 * 1.3 * static_cast<double>(f) * c.frame_time()));
@@ -50,13 +58,13 @@ T skate_median(const anima::clip<T>& c) {
 
 TEST_CASE_TEMPLATE("plant_feet takes the slide out of a swayed walk and touches nothing above the legs", T, float,
                    double) {
-    const auto original = anima::read_bvh<T>(anima_test::bundled("walk_cmu31_02_01.bvh"));
+    const auto original = walk<T>();
     const auto swayed = swayed_walk<T>(T(1));  // 1 file unit: about 5 cm
     const T before = skate_median(swayed), recorded = skate_median(original);
     REQUIRE(before > T(2) * recorded);  // the sway is a real slide
 
     const auto result = anima::plant_feet(swayed);
-    CHECK(result.runs >= 4);
+    CHECK(result.runs >= (anima_test::sanitized_build ? 3u : 4u));
     CHECK(result.frames > 0);
     CHECK(result.largest_correction > T(0.5));
     const T after = skate_median(result.planted);
@@ -85,9 +93,9 @@ TEST_CASE_TEMPLATE("plant_feet takes the slide out of a swayed walk and touches 
 TEST_CASE_TEMPLATE("plant_feet within ranges leaves the frames of other runs as they were", T, float, double) {
     const auto swayed = swayed_walk<T>(T(1));
     const auto contacts = anima::find_contacts(swayed, height_only<T>());
-    // The first contact run of the first foot, and nothing else.
+    // The second contact run of the first foot, and nothing else.
     const auto& runs = contacts.feet.front().contacts;
-    REQUIRE(runs.size() >= 3);
+    REQUIRE(runs.size() >= 2);
     anima::plant_feet_params<T> p;
     p.ranges = {runs[1]};
     const auto result = anima::plant_feet(swayed, contacts, p);
