@@ -1158,6 +1158,25 @@ TEST_CASE("spring_decay is the critically damped solution") {
     CHECK(xv.y() == doctest::Approx(anima::spring_decay(-2.0, 3.0, halflife, 0.3)).epsilon(1e-15));
 }
 
+TEST_CASE("a figure without feet: no skate, nothing planted, no error") {
+    using anima::channel;
+    anima::skeleton<double> sk;
+    sk.add_joint("Box", -1, vec3::Zero(),
+                 {channel::x_position, channel::y_position, channel::z_position, channel::z_rotation,
+                  channel::x_rotation, channel::y_rotation});
+    sk.add_joint("Lid", 0, vec3::Zero());  // flat: the figure has no height
+    clipd box(sk, 60, 1.0 / 60);
+    for (std::size_t f = 0; f < box.frames(); ++f) box.set_root_position(f, vec3(static_cast<double>(f), 0, 0));
+    const auto joined = anima::direct_cut(box, 30, box, 10);
+    const auto planted = anima::plant_transition_feet(joined);
+    for (std::size_t f = 0; f < joined.motion.frames(); ++f)
+        REQUIRE(planted.motion.root_position(f) == joined.motion.root_position(f));
+    const auto q = anima::measure_transition(joined, anima::joint_roles(sk), anima::signed_axis{}, 1.0);
+    CHECK(q.foot_skate_window == 0);
+    CHECK(q.foot_skate_ratio == 0);
+    CHECK_FALSE(anima::has_feet(box));
+}
+
 TEST_CASE("measure_transition: the variable-timing transition is smoother than a direct cut") {
     const auto measure = [](const clipd& a, std::size_t trigger, const clipd& b, std::size_t b_start) {
         const auto roles = anima::joint_roles(a.skeleton());

@@ -270,10 +270,9 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const plant_feet_params<T>& pa
 /// by default and must pass over a prop or a figure without legs.
 template <class T>
 bool has_feet_to_plant(const clip<T>& c, const plant_feet_params<T>& params = {}) {
-    if (c.frames() < 2 || c.joints() == 0) return false;
-    const signed_axis up = params.contacts.up ? *params.contacts.up : guess_up_axis(c.skeleton()).up;
-    if (!(figure_height(c.skeleton(), up) > T(0))) return false;
+    if (c.frames() < 2 || !has_feet(c, params.contacts)) return false;
     if (!params.contacts.feet.empty()) return true;
+    const signed_axis up = params.contacts.up ? *params.contacts.up : guess_up_axis(c.skeleton()).up;
     for (const std::size_t j : find_feet(c.skeleton(), up))
         if (detail::has_leg(c.skeleton(), j)) return true;
     return false;

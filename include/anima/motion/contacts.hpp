@@ -309,9 +309,21 @@ std::vector<bool> follow_foot(const foot_points<T>& fp, std::size_t first, const
 
 }  // namespace detail
 
+/// Whether find_contacts(c, params) has feet to look at: a figure with a
+/// height along the up axis, and feet named in params.feet or found by
+/// find_feet. For measures that must pass over a prop or a single joint.
+template <class T>
+bool has_feet(const clip<T>& c, const contact_params<T>& params = {}) {
+    if (c.joints() == 0) return false;
+    const signed_axis up = params.up ? *params.up : guess_up_axis(c.skeleton()).up;
+    if (!(figure_height(c.skeleton(), up) > T(0))) return false;
+    return !params.feet.empty() || !find_feet(c.skeleton(), up).empty();
+}
+
 /// Contacts and airborne phases of a clip. Throws anima::invalid_argument for
 /// a foot name the skeleton does not have, a skeleton without feet (name
-/// them in params.feet), a figure of zero height or bad thresholds.
+/// them in params.feet; has_feet tells beforehand), a figure of zero height
+/// or bad thresholds.
 template <class T>
 contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params = {}) {
     const std::string who = "anima::find_contacts";

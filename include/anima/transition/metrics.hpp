@@ -34,7 +34,7 @@ struct transition_quality {
     /// sliding foot counts): median horizontal speed of feet in contact, body
     /// heights per second, over the measured frames and over the rest of the
     /// joined clip (the clips' own), and their ratio (0 when either has no
-    /// contact).
+    /// contact, or the figure no feet).
     T foot_skate_window = 0, foot_skate_clips = 0, foot_skate_ratio = 0;
 };
 
@@ -104,6 +104,7 @@ transition_quality<T> measure_transition(const joined_clip<T>& joined, const std
     contact_params<T> cp;
     cp.up = up;
     cp.use_speed = false;
+    if (!has_feet(c, cp)) return q;  // a figure without feet has no skate
     const auto contacts = find_contacts(c, cp);
     std::vector<T> inside, outside;
     for (const auto& foot : contacts.feet)

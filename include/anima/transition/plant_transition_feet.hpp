@@ -14,11 +14,12 @@ namespace anima {
 /// start_frame..end_frame) planted; params.ranges is set here. Contacts are
 /// found on the joined clip with params.contacts (height alone by default,
 /// so a foot sliding on the ground through the window counts as planted).
+/// A figure without feet to plant (has_feet_to_plant) comes back as it is.
 template <class T>
 joined_clip<T> plant_transition_feet(const joined_clip<T>& joined, plant_feet_params<T> params = {}) {
     params.ranges = {frame_interval{joined.start_frame, joined.end_frame}};
     joined_clip<T> out = joined;
-    out.motion = plant_feet(joined.motion, params).planted;
+    if (has_feet_to_plant(joined.motion, params)) out.motion = plant_feet(joined.motion, params).planted;
     return out;
 }
 
