@@ -40,6 +40,38 @@ std::string some_positions(const std::vector<std::size_t>& positions, std::size_
     return out;
 }
 
+/// The stream rendered (resequence), and with --plant-feet the feet on the
+/// ground through a turn or jump held in place; planted_runs into `out`.
+clip_t played_clip(const playback_options& o, const motion_range& m, const std::vector<std::size_t>& stream,
+                   const std::vector<std::size_t>& events, json& out) {
+    anima::resequence_params rp;
+    rp.root = anima::parse_root_path(o.root);
+    rp.up = m.up;
+    clip_t result = anima::resequence(m.clip, stream, rp);
+    // With --plant-feet, feet on the ground through a turn or jump stay planted.
+    anima::plant_feet_params<double> pp;
+    pp.contacts.up = m.up;
+    for (const std::size_t f : events) pp.ranges.push_back({f, f + 1});
+    if (o.plant_feet && !pp.ranges.empty() && anima::has_feet_to_plant(result, pp)) {
+        auto planted = anima::plant_feet(result, pp);
+        result = std::move(planted.planted);
+        out["planted_runs"] = planted.runs;
+    }
+    return result;
+}
+
+/// Foot skate of the input and the played clip: planted feet by height
+/// alone, so that sliding ones count.
+json skate_of(const motion_range& m, const clip_t& result) {
+    anima::contact_params<double> cp;
+    cp.up = m.up;
+    cp.use_speed = false;
+    cp.skip_rest_pose = false;
+    const double in = anima::foot_skate(anima::find_contacts(m.clip, cp)).median;
+    const double played = anima::foot_skate(anima::find_contacts(result, cp)).median;
+    return {{"input", in}, {"output", played}, {"ratio", in > 0 ? json(played / in) : json(nullptr)}};
+}
+
 void run_playback(const playback_options& o) {
     check_outputs({{"--output", &o.output}, {"--view", &o.view}});
     const anima::symmetry_params<double> params = make_symmetry_params(o.symmetry);
@@ -124,33 +156,14 @@ void run_playback(const playback_options& o) {
     write.decimals = std::max(6, m.decimals);
     std::string page_written;
     if (!o.output.empty() || o.json || !o.view.empty()) {
-        anima::resequence_params rp;
-        rp.root = anima::parse_root_path(o.root);
-        rp.up = m.up;
-        clip_t result = anima::resequence(m.clip, stream, rp);
-        // With --plant-feet, feet on the ground through a turn or jump stay planted.
-        anima::plant_feet_params<double> pp;
-        pp.contacts.up = m.up;
-        for (const std::size_t f : events) pp.ranges.push_back({f, f + 1});
-        if (o.plant_feet && !pp.ranges.empty() && anima::has_feet_to_plant(result, pp)) {
-            auto planted = anima::plant_feet(result, pp);
-            result = std::move(planted.planted);
-            out["planted_runs"] = planted.runs;
-        }
+        clip_t result = played_clip(o, m, stream, events, out);
         out["feet_planted"] = o.plant_feet;
         if (!o.output.empty()) {
             write_text_file(o.output, anima::format_bvh(result, write));
             out["output"] = o.output;
             out["decimals"] = write.decimals;
         }
-        // Planted feet by height alone, so that sliding ones count.
-        anima::contact_params<double> cp;
-        cp.up = m.up;
-        cp.use_speed = false;
-        cp.skip_rest_pose = false;
-        const double in = anima::foot_skate(anima::find_contacts(m.clip, cp)).median;
-        const double played = anima::foot_skate(anima::find_contacts(result, cp)).median;
-        out["foot_skate"] = {{"input", in}, {"output", played}, {"ratio", in > 0 ? json(played / in) : json(nullptr)}};
+        out["foot_skate"] = skate_of(m, result);
         if (!o.view.empty()) {
             view_page page;
             page.title = mode + " playback of " + file_name(o.input) + ", seed " + std::to_string(o.seed);

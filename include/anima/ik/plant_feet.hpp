@@ -93,6 +93,61 @@ inline bool touches(const frame_interval& r, const std::vector<frame_interval>& 
     return false;
 }
 
+/// A tree whose only DOFs are the hips, knees and feet of the feet that
+/// have a leg; everything else is fixed.
+template <class T>
+kinematic_tree<T> legs_tree(const skeleton<T>& sk, const contact_set<T>& contacts) {
+    kinematic_tree<T> tree(sk);
+    for (std::size_t j = 0; j < sk.size(); ++j)
+        if (tree.kind(j) != ik_joint_kind::fixed) tree.set_fixed(j);
+    for (const auto& foot : contacts.feet) {
+        if (!has_leg(sk, foot.joint)) continue;
+        const auto knee = static_cast<std::size_t>(sk[foot.joint].parent);
+        const auto hip = static_cast<std::size_t>(sk[knee].parent);
+        for (const std::size_t j : {hip, knee, foot.joint})
+            if (sk.has_rotation_channels(j)) tree.set_ball(j);
+    }
+    return tree;
+}
+
+/// Per frame with a correction: each corrected foot's recorded position
+/// moved by it (kept within the leg's reach) and its recorded orientation.
+template <class T>
+std::vector<frame_goals<T>> leg_goals(const skeleton<T>& sk, const contact_set<T>& contacts,
+                                      const std::vector<global_pose<T>>& poses,
+                                      const std::vector<std::vector<std::optional<Eigen::Matrix<T, 3, 1>>>>& correction,
+                                      T orientation_weight) {
+    using vector3 = Eigen::Matrix<T, 3, 1>;
+    const T orientation_scale = orientation_weight * contacts.body_height;
+    std::vector<frame_goals<T>> goals;
+    for (std::size_t f = 0; f < poses.size(); ++f) {
+        frame_goals<T> g{f, {}};
+        for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
+            if (!correction[f][i]) continue;
+            const std::size_t j = contacts.feet[i].joint;
+            // A target the leg cannot reach is brought within reach along
+            // the line from the hip: a leg asked past straight flips its knee.
+            const auto knee = static_cast<std::size_t>(sk[j].parent);
+            const auto hip = static_cast<std::size_t>(sk[knee].parent);
+            const vector3& hip_at = poses[f].positions[hip];
+            vector3 target = poses[f].positions[j] + *correction[f][i];
+            const T reach_leg = std::max(T(0.98) * (sk[knee].offset.norm() + sk[j].offset.norm()),
+                                         (poses[f].positions[j] - hip_at).norm());
+            if ((target - hip_at).norm() > reach_leg)
+                target = hip_at + (target - hip_at) * (reach_leg / (target - hip_at).norm());
+            ik_goal<T> goal;
+            goal.joint = j;
+            goal.kind = orientation_scale > T(0) ? ik_goal_kind::pose : ik_goal_kind::position;
+            goal.position = target;
+            goal.orientation = poses[f].orientations[j];
+            if (orientation_scale > T(0)) goal.orientation_scale = orientation_scale;
+            g.goals.push_back(goal);
+        }
+        if (!g.goals.empty()) goals.push_back(std::move(g));
+    }
+    return goals;
+}
+
 /// Smooth fade from 1 (s = 0) to 0 (s = 1).
 template <class T>
 T fade_out(T s) {
@@ -205,43 +260,8 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
         }
     }
 
-    // The legs of the feet to plant move; everything else is fixed.
-    kinematic_tree<T> tree(sk);
-    for (std::size_t j = 0; j < sk.size(); ++j)
-        if (tree.kind(j) != ik_joint_kind::fixed) tree.set_fixed(j);
-    for (const auto& foot : contacts.feet) {
-        if (!detail::has_leg(sk, foot.joint)) continue;
-        const auto knee = static_cast<std::size_t>(sk[foot.joint].parent);
-        const auto hip = static_cast<std::size_t>(sk[knee].parent);
-        for (const std::size_t j : {hip, knee, foot.joint})
-            if (sk.has_rotation_channels(j)) tree.set_ball(j);
-    }
-    const T orientation_scale = params.orientation_weight * contacts.body_height;
-    std::vector<frame_goals<T>> goals;
-    for (std::size_t f = 0; f < frames; ++f) {
-        frame_goals<T> g{f, {}};
-        for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
-            if (!correction[f][i]) continue;
-            const std::size_t j = contacts.feet[i].joint;
-            // A target the leg cannot reach is brought within reach along
-            // the line from the hip: a leg asked past straight flips its knee.
-            const auto knee = static_cast<std::size_t>(sk[j].parent);
-            const auto hip = static_cast<std::size_t>(sk[knee].parent);
-            const vector3& hip_at = poses[f].positions[hip];
-            vector3 target = poses[f].positions[j] + *correction[f][i];
-            const T reach_leg = std::max(T(0.98) * (sk[knee].offset.norm() + sk[j].offset.norm()),
-                                         (poses[f].positions[j] - hip_at).norm());
-            if ((target - hip_at).norm() > reach_leg) target = hip_at + (target - hip_at) * (reach_leg / (target - hip_at).norm());
-            ik_goal<T> goal;
-            goal.joint = j;
-            goal.kind = orientation_scale > T(0) ? ik_goal_kind::pose : ik_goal_kind::position;
-            goal.position = target;
-            goal.orientation = poses[f].orientations[j];
-            if (orientation_scale > T(0)) goal.orientation_scale = orientation_scale;
-            g.goals.push_back(goal);
-        }
-        if (!g.goals.empty()) goals.push_back(std::move(g));
-    }
+    const kinematic_tree<T> tree = detail::legs_tree(sk, contacts);
+    const auto goals = detail::leg_goals(sk, contacts, poses, correction, params.orientation_weight);
     if (goals.empty()) return out;
     typename damped_least_squares<T>::params dls;
     dls.adaptive = true;
