@@ -15,6 +15,11 @@
 //                                         channel value, space-separated, into a string
 //
 // Bytes/s counts the BVH text read (parse) or produced (format).
+//
+//   BM_parse_wide_skeleton/<N>            a root with N sibling joints and no frames,
+//                                         with Google Benchmark's complexity fit: hashed
+//                                         name lookups keep it near N log N, where a
+//                                         linear name search would be N^2
 
 #include <anima/bvh/document.hpp>
 #include <anima/bvh/reader.hpp>
@@ -151,7 +156,28 @@ void reference_to_chars(benchmark::State& state, std::size_t i) {
     set_bytes(state, produced);
 }
 
+std::string wide_skeleton(std::size_t n) {
+    std::string text = "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 0\n";
+    for (std::size_t k = 0; k < n; ++k) text += "JOINT s" + std::to_string(k) + "\n{\nOFFSET 0 1 0\nCHANNELS 0\n}\n";
+    return text + "}\nMOTION\nFrames: 0\nFrame Time: 0.1\n";
+}
+
+void parse_wide_skeleton(benchmark::State& state) {
+    const std::string text = wide_skeleton(static_cast<std::size_t>(state.range(0)));
+    for (auto _ : state) {
+        auto doc = anima::parse_bvh_document<double>(text);
+        benchmark::DoNotOptimize(doc.skeleton.size());
+    }
+    state.SetComplexityN(state.range(0));
+    set_bytes(state, text.size());
+}
+
 const bool registered = [] {
+    benchmark::RegisterBenchmark("BM_parse_wide_skeleton", parse_wide_skeleton)
+        ->RangeMultiplier(8)
+        ->Range(1 << 9, 1 << 15)
+        ->Unit(benchmark::kMillisecond)
+        ->Complexity();
     const std::vector<std::string> names{"walk_cmu31_02_01", "run_cmu_09_01"};
     for (std::size_t i = 0; i < names.size(); ++i) {
         const std::string& n = names[i];

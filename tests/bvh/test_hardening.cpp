@@ -15,7 +15,6 @@
 
 #include <Eigen/Core>
 
-#include <chrono>
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
@@ -268,7 +267,6 @@ TEST_CASE("binary bytes quoted by the reader are escaped") {
 TEST_CASE("a deep hierarchy parses, converts and writes in linear size, without recursion") {
     const std::size_t depth = 100000;
     const std::string text = nested_bvh(depth);
-    const auto start = std::chrono::steady_clock::now();
     const auto doc = anima::parse_bvh_document<double>(text, "deep.bvh");
     REQUIRE(doc.skeleton.size() == depth);
     CHECK(doc.skeleton[depth - 1].parent == static_cast<int>(depth - 2));
@@ -279,22 +277,20 @@ TEST_CASE("a deep hierarchy parses, converts and writes in linear size, without 
     CHECK(back.skeleton == doc.skeleton);
     const auto c = anima::to_clip(doc);
     CHECK(c.joints() == depth);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    CHECK(seconds < 30);  // quadratic work would take far longer (and fail on memory first)
 }
 
-TEST_CASE("many sibling joints parse with hash lookups of their names") {
+// Parse time against joint count is measured in bench_bvh (BM_parse_wide_skeleton,
+// fitted as O(N)); here the wide skeleton must parse and index every name.
+TEST_CASE("many sibling joints parse and every name is found") {
     const std::size_t n = 100000;
     std::string text = "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 0\n";
     for (std::size_t k = 0; k < n; ++k) text += "JOINT s" + std::to_string(k) + "\n{\nOFFSET 0 1 0\nCHANNELS 0\n}\n";
     text += "}\nMOTION\nFrames: 0\nFrame Time: 0.1\n";
-    const auto start = std::chrono::steady_clock::now();
     const auto doc = anima::parse_bvh_document<double>(text, "wide.bvh");
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     CHECK(doc.skeleton.size() == n + 1);
     CHECK(doc.skeleton.find("s99999") == std::optional<std::size_t>(n));
     CHECK(!doc.skeleton.find("s100000"));
-    CHECK(seconds < 5);  // 18 s with a linear name search
+    for (std::size_t k = 0; k < n; k += 997) CHECK(doc.skeleton.find("s" + std::to_string(k)) == std::optional<std::size_t>(k + 1));
 }
 
 // ---------------------------------------------------------------------------
