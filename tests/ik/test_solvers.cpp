@@ -270,7 +270,9 @@ TEST_CASE_TEMPLATE("joint limits are held inside the solve and never violated", 
     for (int i = 0; i < 7; ++i) arm.set_hinge(static_cast<std::size_t>(i), vec3<T>::Unit(anima_ik_test::arm_axis(i)), T(-0.4), T(0.4));
     random_source rng(9);
     int converged = 0, converged_bfgs = 0, converged_lm = 0;
-    for (int t = 0; t < 20; ++t) {
+    // 20 targets; 6 under the sanitizers, where only the limits are checked.
+    const int targets = anima_test::sanitized_build ? 6 : 20;
+    for (int t = 0; t < targets; ++t) {
         const auto qg = random_q(arm, rng);
         std::vector<ik_goal<T>> goals{
             position_goal<T>(6, anima_ik_test::point_at(arm, qg, 6, anima_ik_test::arm_tip<T>()), anima_ik_test::arm_tip<T>())};
@@ -292,6 +294,7 @@ TEST_CASE_TEMPLATE("joint limits are held inside the solve and never violated", 
         CHECK(l.q.allFinite());
         converged_lm += l.converged();
     }
+    if (anima_test::sanitized_build) return;
     CHECK(converged_lm >= 18);
     CHECK(converged >= 18);
     // In float, BFGS on |r|^2 / 2 stalls near 1e-4 of the reach: only double is held to the tolerance.
