@@ -10,6 +10,7 @@
 #include <anima/flight/cubic_spline.hpp>
 #include <anima/flight/flight_clip.hpp>
 #include <anima/flight/flight_objective.hpp>
+#include <anima/flight/instances.hpp>
 #include <anima/flight/inverse_dynamics.hpp>
 #include <anima/flight/key_set.hpp>
 #include <anima/flight/key_trajectory.hpp>

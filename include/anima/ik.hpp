@@ -6,9 +6,10 @@
 #pragma once
 
 #include <anima/ik/bfgs_ik.hpp>
-#include <anima/ik/clip_ik.hpp>
 #include <anima/ik/ccd.hpp>
+#include <anima/ik/clip_ik.hpp>
 #include <anima/ik/goal.hpp>
+#include <anima/ik/instances.hpp>
 #include <anima/ik/kinematic_tree.hpp>
 #include <anima/ik/learned_inverse.hpp>
 #include <anima/ik/levenberg_marquardt_ik.hpp>

@@ -11,6 +11,7 @@
 #include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/frame_distance.hpp>
 #include <anima/motion/frame_features.hpp>
+#include <anima/motion/instances.hpp>
 #include <anima/motion/joint_roles.hpp>
 #include <anima/motion/reorient.hpp>
 #include <anima/motion/resample.hpp>

@@ -12,6 +12,7 @@
 #include <anima/sadm/evaluate_model.hpp>
 #include <anima/sadm/evaluation.hpp>
 #include <anima/sadm/frame_folder.hpp>
+#include <anima/sadm/instances.hpp>
 #include <anima/sadm/landmarks.hpp>
 #include <anima/sadm/pca.hpp>
 #include <anima/sadm/piecewise_affine_warp.hpp>

@@ -4,6 +4,7 @@
 
 #include <anima/transition/baselines.hpp>
 #include <anima/transition/classify.hpp>
+#include <anima/transition/instances.hpp>
 #include <anima/transition/metrics.hpp>
 #include <anima/transition/placement.hpp>
 #include <anima/transition/plant_transition_feet.hpp>

@@ -6,6 +6,7 @@
 #include <anima/bvh/reader.hpp>
 #include <anima/core/random.hpp>
 #include <anima/flight/body_model.hpp>
+#include <anima/flight/instances.hpp>  // compiled once when the build provides them
 #include <anima/flight/inverse_dynamics.hpp>
 #include <anima/flight/key_trajectory.hpp>
 

@@ -71,42 +71,7 @@ public:
     /// variation, for one).
     template <class Image>
     static sadm_model train(const std::vector<Image>& images, const std::vector<landmark_set<T>>& landmarks,
-                            const sadm_options<T>& options = {}) {
-        const std::string who = "anima::sadm_model::train";
-        if (images.size() < 2 || images.size() != landmarks.size())
-            throw invalid_argument(who + ": needs at least 2 frames with one landmark set each, got " +
-                                   std::to_string(images.size()) + " images and " + std::to_string(landmarks.size()) +
-                                   " landmark sets");
-        for (std::size_t k = 0; k < images.size(); ++k)
-            check_landmarks_inside(landmarks[k], static_cast<Eigen::Index>(images[k].cols()),
-                                   static_cast<Eigen::Index>(images[k].rows()), who + ": frame " + std::to_string(k));
-        shape_model<T> shape = shape_model<T>::fit(landmarks, options.shape);
-        if (shape.size() == 0) throw invalid_argument(who + ": the landmark sets do not vary: no shape parameter");
-        T scale = options.reference_scale;
-        if (scale == T(0)) {
-            for (const auto& s : landmarks) scale += (s.rowwise() - s.colwise().mean()).norm();
-            scale /= static_cast<T>(landmarks.size());
-        }
-        Eigen::Index rows = 0, cols = 0;
-        const landmark_set<T> reference = grey_model<T>::place_reference(shape.mean(), scale, rows, cols);
-        grey_model_options<T> grey_options;
-        grey_options.pca = options.grey;
-        if (options.progress) grey_options.progress = [&](int done, int total) { options.progress("warp", done, total); };
-        grey_model<T> grey = grey_model<T>::fit(images, landmarks, reference, rows, cols, grey_options);
-        if (grey.size() == 0) throw invalid_argument(who + ": the warped images do not vary: no grey parameter");
-        matrix bs(static_cast<Eigen::Index>(images.size()), shape.size());
-        matrix bg(static_cast<Eigen::Index>(images.size()), grey.size());
-        for (std::size_t k = 0; k < images.size(); ++k) {
-            const auto i = static_cast<Eigen::Index>(k);
-            bs.row(i) = shape.parameters(landmarks[k]).transpose();
-            bg.row(i) = grey.parameters(grey.sample(images[k], landmarks[k])).transpose();
-        }
-        regressor_options<T> ropt = options.regressor;
-        if (options.progress && !ropt.progress) ropt.progress = options.progress;
-        std::unique_ptr<regressor<T>> mapping = make_regressor<T>(options.mapping, ropt);
-        mapping->fit(bs, bg);
-        return sadm_model(std::move(shape), std::move(grey), std::move(mapping), options.clamp_limit);
-    }
+                            const sadm_options<T>& options = {});
 
     const shape_model<T>& shape() const noexcept { return shape_; }
     const grey_model<T>& grey() const noexcept { return grey_; }
@@ -161,52 +126,7 @@ public:
 
     /// Reads what save wrote. Throws anima::parse_error ("source:line:
     /// message") for anything malformed or inconsistent.
-    static sadm_model load(std::istream& in, const std::string& source = "<stream>") {
-        detail::regress_reader reader(in, source);
-        const auto header = reader.next_tokens("anima-sadm");
-        if (header.size() != 2 || header[0] != "anima-sadm")
-            reader.fail("not a SADM model: the first line must read 'anima-sadm 1'");
-        if (header[1] != "1") reader.fail("unsupported SADM model version '" + header[1] + "'");
-        const T limit = reader.read_scalar<T>("clamp_limit");
-        pca<T> shape_pca = read_pca(reader, "shape");
-        const auto raster = reader.expect("raster");
-        if (raster.size() != 2) reader.fail("'raster' takes rows and columns");
-        const long rows = reader.parse_count(raster[0], "raster rows"), cols = reader.parse_count(raster[1], "raster columns");
-        if (rows < 1 || cols < 1 || rows > max_raster_pixels / cols)
-            reader.fail("raster " + std::to_string(rows) + " x " + std::to_string(cols) + " is outside 1.." +
-                        std::to_string(max_raster_pixels) + " pixels (anima::max_raster_pixels)");
-        const Eigen::Index points = shape_pca.dimension() / 2;
-        const landmark_set<T> reference = reader.read_matrix<T>("reference", points, 2);
-        const auto tri_line = reader.expect("triangles");
-        if (tri_line.size() != 2 || tri_line[1] != "3") reader.fail("'triangles' takes a count and 3");
-        const long count = reader.parse_count(tri_line[0], "triangle count");
-        std::vector<triangle_indices> tris;
-        tris.reserve(static_cast<std::size_t>(std::min(count, 1L << 16)));  // the count is not trusted
-        for (long n = 0; n < count; ++n) {
-            triangle_indices& t = tris.emplace_back();
-            const auto v = reader.next_tokens("a triangle");
-            if (v.size() != 3) reader.fail("a triangle takes 3 point indices");
-            for (int k = 0; k < 3; ++k) {
-                const long index = reader.parse_count(v[static_cast<std::size_t>(k)], "point index", points - 1);
-                t[static_cast<std::size_t>(k)] = static_cast<int>(index);
-            }
-        }
-        pca<T> grey_pca = read_pca(reader, "grey");
-        const std::size_t regressor_line = reader.line();
-        std::unique_ptr<regressor<T>> mapping;
-        try {
-            mapping = load_regressor<T>(in, source);
-        } catch (const parse_error& e) {
-            throw parse_error(source, e.line() + regressor_line, e.message());
-        }
-        try {
-            return sadm_model(shape_model<T>(std::move(shape_pca)),
-                              grey_model<T>(reference, std::move(tris), rows, cols, std::move(grey_pca)),
-                              std::move(mapping), limit);
-        } catch (const invalid_argument& e) {
-            throw parse_error(source, reader.line(), std::string("inconsistent model: ") + e.what());
-        }
-    }
+    static sadm_model load(std::istream& in, const std::string& source = "<stream>");
 
 private:
     static void write_pca(std::ostream& out, const std::string& name, const pca<T>& p) {
@@ -238,5 +158,95 @@ private:
     std::unique_ptr<regressor<T>> mapping_;
     T clamp_limit_ = T(3);
 };
+
+// Out of the class body (not inline), so that a build compiling the heavy
+// templates once (sadm/instances.hpp) can declare them extern.
+template <class T>
+template <class Image>
+sadm_model<T> sadm_model<T>::train(const std::vector<Image>& images, const std::vector<landmark_set<T>>& landmarks,
+                                   const sadm_options<T>& options) {
+    const std::string who = "anima::sadm_model::train";
+    if (images.size() < 2 || images.size() != landmarks.size())
+        throw invalid_argument(who + ": needs at least 2 frames with one landmark set each, got " +
+                               std::to_string(images.size()) + " images and " + std::to_string(landmarks.size()) +
+                               " landmark sets");
+    for (std::size_t k = 0; k < images.size(); ++k)
+        check_landmarks_inside(landmarks[k], static_cast<Eigen::Index>(images[k].cols()),
+                               static_cast<Eigen::Index>(images[k].rows()), who + ": frame " + std::to_string(k));
+    shape_model<T> shape = shape_model<T>::fit(landmarks, options.shape);
+    if (shape.size() == 0) throw invalid_argument(who + ": the landmark sets do not vary: no shape parameter");
+    T scale = options.reference_scale;
+    if (scale == T(0)) {
+        for (const auto& s : landmarks) scale += (s.rowwise() - s.colwise().mean()).norm();
+        scale /= static_cast<T>(landmarks.size());
+    }
+    Eigen::Index rows = 0, cols = 0;
+    const landmark_set<T> reference = grey_model<T>::place_reference(shape.mean(), scale, rows, cols);
+    grey_model_options<T> grey_options;
+    grey_options.pca = options.grey;
+    if (options.progress) grey_options.progress = [&](int done, int total) { options.progress("warp", done, total); };
+    grey_model<T> grey = grey_model<T>::fit(images, landmarks, reference, rows, cols, grey_options);
+    if (grey.size() == 0) throw invalid_argument(who + ": the warped images do not vary: no grey parameter");
+    matrix bs(static_cast<Eigen::Index>(images.size()), shape.size());
+    matrix bg(static_cast<Eigen::Index>(images.size()), grey.size());
+    for (std::size_t k = 0; k < images.size(); ++k) {
+        const auto i = static_cast<Eigen::Index>(k);
+        bs.row(i) = shape.parameters(landmarks[k]).transpose();
+        bg.row(i) = grey.parameters(grey.sample(images[k], landmarks[k])).transpose();
+    }
+    regressor_options<T> ropt = options.regressor;
+    if (options.progress && !ropt.progress) ropt.progress = options.progress;
+    std::unique_ptr<regressor<T>> mapping = make_regressor<T>(options.mapping, ropt);
+    mapping->fit(bs, bg);
+    return sadm_model(std::move(shape), std::move(grey), std::move(mapping), options.clamp_limit);
+}
+
+template <class T>
+sadm_model<T> sadm_model<T>::load(std::istream& in, const std::string& source) {
+    detail::regress_reader reader(in, source);
+    const auto header = reader.next_tokens("anima-sadm");
+    if (header.size() != 2 || header[0] != "anima-sadm")
+        reader.fail("not a SADM model: the first line must read 'anima-sadm 1'");
+    if (header[1] != "1") reader.fail("unsupported SADM model version '" + header[1] + "'");
+    const T limit = reader.read_scalar<T>("clamp_limit");
+    pca<T> shape_pca = read_pca(reader, "shape");
+    const auto raster = reader.expect("raster");
+    if (raster.size() != 2) reader.fail("'raster' takes rows and columns");
+    const long rows = reader.parse_count(raster[0], "raster rows"), cols = reader.parse_count(raster[1], "raster columns");
+    if (rows < 1 || cols < 1 || rows > max_raster_pixels / cols)
+        reader.fail("raster " + std::to_string(rows) + " x " + std::to_string(cols) + " is outside 1.." +
+                    std::to_string(max_raster_pixels) + " pixels (anima::max_raster_pixels)");
+    const Eigen::Index points = shape_pca.dimension() / 2;
+    const landmark_set<T> reference = reader.read_matrix<T>("reference", points, 2);
+    const auto tri_line = reader.expect("triangles");
+    if (tri_line.size() != 2 || tri_line[1] != "3") reader.fail("'triangles' takes a count and 3");
+    const long count = reader.parse_count(tri_line[0], "triangle count");
+    std::vector<triangle_indices> tris;
+    tris.reserve(static_cast<std::size_t>(std::min(count, 1L << 16)));  // the count is not trusted
+    for (long n = 0; n < count; ++n) {
+        triangle_indices& t = tris.emplace_back();
+        const auto v = reader.next_tokens("a triangle");
+        if (v.size() != 3) reader.fail("a triangle takes 3 point indices");
+        for (int k = 0; k < 3; ++k) {
+            const long index = reader.parse_count(v[static_cast<std::size_t>(k)], "point index", points - 1);
+            t[static_cast<std::size_t>(k)] = static_cast<int>(index);
+        }
+    }
+    pca<T> grey_pca = read_pca(reader, "grey");
+    const std::size_t regressor_line = reader.line();
+    std::unique_ptr<regressor<T>> mapping;
+    try {
+        mapping = load_regressor<T>(in, source);
+    } catch (const parse_error& e) {
+        throw parse_error(source, e.line() + regressor_line, e.message());
+    }
+    try {
+        return sadm_model(shape_model<T>(std::move(shape_pca)),
+                          grey_model<T>(reference, std::move(tris), rows, cols, std::move(grey_pca)),
+                          std::move(mapping), limit);
+    } catch (const invalid_argument& e) {
+        throw parse_error(source, reader.line(), std::string("inconsistent model: ") + e.what());
+    }
+}
 
 }  // namespace anima
