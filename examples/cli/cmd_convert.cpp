@@ -48,7 +48,7 @@ void run_convert(const convert_options& o) {
     // Unless told otherwise, a document is written with as many decimals as
     // the input has (so its numbers come back unchanged), a clip with 6.
     options.decimals = o.decimals_opt->count() > 0 ? o.decimals : via_clip ? 6 : anima::bvh_value_decimals(input_text);
-    options.angles = o.euler == "principal" ? anima::euler_angles::principal : anima::euler_angles::continuous;
+    options.angles = anima::parse_enum<anima::euler_angles>(o.euler);
 
     std::string text;
     skeleton_t written;
@@ -147,7 +147,7 @@ void register_convert(CLI::App& app) {
                                       "How rotations become angles when the clip is re-encoded: continuous (no "
                                       "360 degree jumps) or principal (each frame on its own); implies re-encoding")
                           ->type_name("MODE")
-                          ->check(CLI::IsMember({"continuous", "principal"}))
+                          ->check(CLI::IsMember(anima::enum_name_list<anima::euler_angles>()))
                           ->capture_default_str();
     sub->add_flag("--json", opts->json, "Print a JSON summary instead of a line of text");
     sub->callback([opts] { run_convert(*opts); });

@@ -51,8 +51,7 @@ void run_transition(const transition_options& o) {
         anima::transition_params params;
         params.timing.min_duration = o.min_duration;
         params.timing.max_duration = o.max_duration;
-        params.timing.model =
-            o.timing == "acceleration" ? anima::timing_model::constant_acceleration : anima::timing_model::velocity;
+        params.timing.model = anima::parse_enum<anima::timing_model>(o.timing);
         const auto t = anima::make_transition(a, o.at, b, o.to, params);
         joined = anima::join(a, o.at, t);
         out["duration"] = t.duration;
@@ -173,7 +172,7 @@ void register_transition(CLI::App& app) {
         ->check(CLI::IsMember({"variable", "cut", "crossfade", "inertialize"}))
         ->capture_default_str();
     sub->add_option("--timing", opts->timing, "t_i from mean angular speeds (velocity) or accelerations (acceleration)")
-        ->check(CLI::IsMember({"velocity", "acceleration"}))
+        ->check(CLI::IsMember(anima::enum_name_list<anima::timing_model>()))
         ->capture_default_str();
     sub->add_option("--min-duration", opts->min_duration, "Shortest transition, seconds")
         ->check(non_negative_number())

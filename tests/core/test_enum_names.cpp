@@ -1,11 +1,14 @@
 // anima::enum_names: every named enum's values have a name, names and values
 // round-trip, aliases and case are accepted, and a bad name lists the
 // choices. The enums are those of the modules below.
+#include <anima/bvh/document.hpp>
 #include <anima/core/enum_names.hpp>
+#include <anima/flight/anthropometry.hpp>
 #include <anima/ik/solve.hpp>
 #include <anima/ik/solve_with.hpp>
 #include <anima/motion/body_sides.hpp>
 #include <anima/motion/frame_distance.hpp>
+#include <anima/motion/joint_roles.hpp>
 #include <anima/motion/resequence.hpp>
 #include <anima/optimize/result.hpp>
 #include <anima/poisson/cg_poisson.hpp>
@@ -14,6 +17,9 @@
 #include <anima/sadm/regressor_base.hpp>
 #include <anima/texture/motion_smoothing.hpp>
 #include <anima/texture/seam_cost.hpp>
+#include <anima/transition/classify.hpp>
+#include <anima/transition/timing.hpp>
+#include <anima/transition/variable_timing_transition.hpp>
 
 #include <doctest/doctest.h>
 
@@ -69,6 +75,14 @@ TEST_CASE("every named enum has one name per value, and they round-trip") {
     check_names<body_side>(3, {"centre", "left", "right"});
     check_names<cg_preconditioner>(2, {"diagonal", "incomplete_cholesky"});
     check_names<optimize_status>(4, {"converged", "max_iterations", "stalled", "stopped"});
+    check_names<joint_role>(5, {"root", "leg", "foot", "finger", "other"});
+    check_names<motion_class>(3, {"on_the_spot", "plane_motion", "space_flight"});
+    check_names<interpolation>(4, {"automatic", "lerp", "slerp", "squad"});
+    check_names<timing_model>(2, {"velocity", "acceleration"});
+    check_names<easing>(2, {"linear", "ease_in_out"});
+    check_names<euler_angles>(2, {"continuous", "principal"});
+    check_names<segment_kind>(10, {"head", "upper_trunk", "middle_trunk", "lower_trunk", "upper_arm", "forearm",
+                                   "hand", "thigh", "shank", "foot"});
 }
 
 TEST_CASE("aliases parse but are not listed; the parse_* wrappers agree") {
@@ -85,6 +99,8 @@ TEST_CASE("aliases parse but are not listed; the parse_* wrappers agree") {
     CHECK(parse_regressor_kind("svr") == regressor_kind::svr);
     CHECK(parse_seam_capacity("plain") == seam_capacity::plain);
     CHECK(parse_poisson_method("dst") == poisson_method::dst);
+    CHECK(parse_enum<timing_model>("constant_acceleration") == timing_model::constant_acceleration);
+    CHECK(parse_segment_kind("Shank") == segment_kind::shank);
     CHECK(enum_choices<root_path>() == "recorded, in_place, accumulated or keep_direction");
     CHECK(enum_choices<frame_metric>() == "mahalanobis or l2");
 }

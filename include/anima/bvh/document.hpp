@@ -5,6 +5,7 @@
 #pragma once
 
 #include <anima/core/constants.hpp>
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/skeleton.hpp>
@@ -154,6 +155,13 @@ enum class euler_angles : unsigned char {
     /// Each frame independently: outer angles in (-180, 180], middle angle in
     /// [-90, 90]. Jumps where a joint passes the middle axis's +-90 degrees.
     principal
+};
+
+template <>
+struct enum_names<euler_angles> {
+    static constexpr const char* what = "Euler angle policy";
+    static constexpr enum_entry<euler_angles> entries[] = {{euler_angles::continuous, "continuous"},
+                                                           {euler_angles::principal, "principal"}};
 };
 
 /// The BVH document of a clip: channel values in degrees and the clip's

@@ -11,6 +11,7 @@
 // trees grow away from the pelvis, so `measured_from_far_end` says which.
 #pragma once
 
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 
 #include <string>
@@ -24,17 +25,19 @@ enum class sex { male, female };
 /// thigh have the same parameters).
 enum class segment_kind { head, upper_trunk, middle_trunk, lower_trunk, upper_arm, forearm, hand, thigh, shank, foot };
 
-inline std::string_view to_string(segment_kind k) {
-    static constexpr std::string_view names[] = {"head",    "upper_trunk", "middle_trunk", "lower_trunk",
-                                                 "upper_arm", "forearm",   "hand",         "thigh",
-                                                 "shank",   "foot"};
-    return names[static_cast<int>(k)];
-}
+template <>
+struct enum_names<segment_kind> {
+    static constexpr const char* what = "segment";
+    static constexpr enum_entry<segment_kind> entries[] = {
+        {segment_kind::head, "head"},           {segment_kind::upper_trunk, "upper_trunk"},
+        {segment_kind::middle_trunk, "middle_trunk"}, {segment_kind::lower_trunk, "lower_trunk"},
+        {segment_kind::upper_arm, "upper_arm"}, {segment_kind::forearm, "forearm"},
+        {segment_kind::hand, "hand"},           {segment_kind::thigh, "thigh"},
+        {segment_kind::shank, "shank"},         {segment_kind::foot, "foot"}};
+};
 
 inline segment_kind parse_segment_kind(std::string_view s) {
-    for (int k = 0; k <= static_cast<int>(segment_kind::foot); ++k)
-        if (to_string(static_cast<segment_kind>(k)) == s) return static_cast<segment_kind>(k);
-    throw invalid_argument("anima::parse_segment_kind: unknown segment '" + std::string(s) + "'");
+    return parse_enum<segment_kind>(s, "anima::parse_segment_kind");
 }
 
 /// One row of de Leva's Table 4 (fractions, not percent).

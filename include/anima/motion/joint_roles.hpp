@@ -4,6 +4,7 @@
 // returned vector.
 #pragma once
 
+#include <anima/core/enum_names.hpp>
 #include <anima/core/text.hpp>
 #include <anima/motion/skeleton.hpp>
 
@@ -16,10 +17,15 @@ namespace anima {
 
 enum class joint_role : unsigned char { root, leg, foot, finger, other };
 
-inline std::string_view to_string(joint_role r) {
-    static constexpr std::string_view names[] = {"root", "leg", "foot", "finger", "other"};
-    return names[static_cast<int>(r)];
-}
+template <>
+struct enum_names<joint_role> {
+    static constexpr const char* what = "joint role";
+    static constexpr enum_entry<joint_role> entries[] = {{joint_role::root, "root"},
+                                                         {joint_role::leg, "leg"},
+                                                         {joint_role::foot, "foot"},
+                                                         {joint_role::finger, "finger"},
+                                                         {joint_role::other, "other"}};
+};
 
 /// Role of every joint. The roots are `root`; then by name (case-insensitive):
 /// thumb/index/mid/ring/pinky/finger -> finger; foot/toe/ankle/heel -> foot;

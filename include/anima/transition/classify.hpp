@@ -13,6 +13,7 @@
 // metres_per_unit, guessed from the figure's height unless given.
 #pragma once
 
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/contacts.hpp>
@@ -33,10 +34,13 @@ namespace anima {
 
 enum class motion_class : unsigned char { on_the_spot, plane_motion, space_flight };
 
-inline std::string_view to_string(motion_class c) {
-    static constexpr std::string_view names[] = {"on_the_spot", "plane_motion", "space_flight"};
-    return names[static_cast<int>(c)];
-}
+template <>
+struct enum_names<motion_class> {
+    static constexpr const char* what = "motion class";
+    static constexpr enum_entry<motion_class> entries[] = {{motion_class::on_the_spot, "on_the_spot"},
+                                                           {motion_class::plane_motion, "plane_motion"},
+                                                           {motion_class::space_flight, "space_flight"}};
+};
 
 struct classify_params {
     std::optional<signed_axis> up;           ///< guessed from the skeleton when empty

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <anima/core/constants.hpp>
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/joint_roles.hpp>
@@ -39,13 +40,25 @@ namespace anima {
 
 enum class timing_model : unsigned char { velocity, constant_acceleration };
 
+template <>
+struct enum_names<timing_model> {
+    static constexpr const char* what = "timing model";
+    static constexpr enum_entry<timing_model> entries[] = {{timing_model::velocity, "velocity"},
+                                                           {timing_model::constant_acceleration, "acceleration"},
+                                                           {timing_model::constant_acceleration, "constant_acceleration"}};
+};
+
 /// How time maps to the interpolation parameter h.
 enum class easing : unsigned char {
     linear,      ///< h = t / T (Eq 10)
     ease_in_out  ///< 2 (t/T)^2, then 1 - 2 (t/T - 1)^2 (Eq 11): accelerate, then decelerate
 };
 
-inline std::string_view to_string(easing e) { return e == easing::linear ? "linear" : "ease_in_out"; }
+template <>
+struct enum_names<easing> {
+    static constexpr const char* what = "easing";
+    static constexpr enum_entry<easing> entries[] = {{easing::linear, "linear"}, {easing::ease_in_out, "ease_in_out"}};
+};
 
 /// h(t) for t in [0, total], clamped to [0, 1].
 template <class T>

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <anima/core/constants.hpp>
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/joint_roles.hpp>
@@ -57,10 +58,14 @@ enum class interpolation : unsigned char {
     squad       ///< Eq 8-9, control points from the neighbouring frames
 };
 
-inline std::string_view to_string(interpolation m) {
-    static constexpr std::string_view names[] = {"automatic", "lerp", "slerp", "squad"};
-    return names[static_cast<int>(m)];
-}
+template <>
+struct enum_names<interpolation> {
+    static constexpr const char* what = "interpolation";
+    static constexpr enum_entry<interpolation> entries[] = {{interpolation::automatic, "automatic"},
+                                                            {interpolation::lerp, "lerp"},
+                                                            {interpolation::slerp, "slerp"},
+                                                            {interpolation::squad, "squad"}};
+};
 
 struct transition_params {
     classify_params classification;      ///< also gives the up axis and units
