@@ -90,6 +90,38 @@ TEST_CASE_TEMPLATE("plant_feet takes the slide out of a swayed walk and touches 
         for (std::size_t j = 0; j < sk.size(); ++j) REQUIRE(result.planted.rotation(f, j).coeffs().allFinite());
 }
 
+TEST_CASE_TEMPLATE("plant_feet holds the stance and lets the step go: every run of the recorded walk slides less",
+                   T, float, double) {
+    // Height alone finds long contact runs in a walk: the swing skims the
+    // floor for a few frames at each end. Dragged back as if sliding, those
+    // steps slid more after planting than before (three of seven runs); the
+    // plant now ends where the foot moves faster than slide_fraction of its
+    // fast speed.
+    const auto c = walk<T>();
+    const auto before = anima::find_contacts(c, height_only<T>());
+    const auto result = anima::plant_feet(c, before, {});
+    const auto after = anima::find_contacts(result.planted, height_only<T>());
+    REQUIRE(after.feet.size() == before.feet.size());
+    std::size_t runs = 0;
+    for (std::size_t i = 0; i < before.feet.size(); ++i)
+        for (const auto& run : before.feet[i].contacts) {
+            auto planted = after.feet[i];
+            planted.in_contact = before.feet[i].in_contact;  // the same frames, measured on the planted clip
+            const T was = anima::foot_skate(before.feet[i], run.first, run.last).median;
+            const T is = anima::foot_skate(planted, run.first, run.last).median;
+            CAPTURE(run.first);
+            CHECK(is <= T(1.02) * was);
+            ++runs;
+        }
+    CHECK(runs >= (anima_test::sanitized_build ? 3u : 7u));
+    CHECK(anima::foot_skate(after).median < T(0.6) * anima::foot_skate(before).median);
+    // The old rule: every low frame held (a fraction no speed reaches).
+    anima::plant_feet_params<T> hold_all;
+    hold_all.slide_fraction = T(100);
+    const auto dragged = anima::find_contacts(anima::plant_feet(c, before, hold_all).planted, height_only<T>());
+    CHECK(anima::foot_skate(after).median < anima::foot_skate(dragged).median);
+}
+
 TEST_CASE_TEMPLATE("plant_feet within ranges leaves the frames of other runs as they were", T, float, double) {
     const auto swayed = swayed_walk<T>(T(1));
     const auto contacts = anima::find_contacts(swayed, height_only<T>());
@@ -159,5 +191,11 @@ TEST_CASE_TEMPLATE("plant_feet: short clips and bad input", T, float, double) {
         p.release_seconds = T(-1);
         const auto message = anima_test::invalid_argument_message([&] { (void)anima::plant_feet(walk, p); });
         CHECK(anima_test::contains(message, "release_seconds"));
+    }
+    SUBCASE("a slide fraction of 0") {
+        anima::plant_feet_params<T> p;
+        p.slide_fraction = T(0);
+        const auto message = anima_test::invalid_argument_message([&] { (void)anima::plant_feet(walk, p); });
+        CHECK(anima_test::contains(message, "slide_fraction"));
     }
 }

@@ -1,9 +1,11 @@
-// Foot planting: a foot in ground contact stops sliding. Over each contact
-// run the foot is moved back by the horizontal distance its contact point
-// (the stillest of its points near the ground: heel, ball or toe as the
-// foot rolls) has slid since the run began, so the roll of a step is kept and only the slide is
-// taken out; after the run the correction fades out over the swing, where a
-// moved foot is not seen as skate. The legs are solved with clip-level IK
+// Foot planting: a foot in ground contact stops sliding. Over each stance
+// (the frames of a contact run where the foot is not stepping: near the
+// ground, a swing skims the floor) the foot is moved back by the horizontal
+// distance its contact point (the stillest of its points near the ground:
+// heel, ball or toe as the foot rolls) has slid since the stance began, so
+// the roll of a step is kept and only the slide is taken out; after the
+// stance the correction fades out over the swing, where a moved foot is not
+// seen as skate. The legs are solved with clip-level IK
 // (solve_clip_ik): warm-started frame to frame and pulled toward the
 // recorded pose, so nothing but the legs of planted feet changes.
 #pragma once
@@ -28,6 +30,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace anima {
@@ -55,6 +58,12 @@ struct plant_feet_params {
     /// A foot that arrives sliding is caught over this long (the correction
     /// eases in), not in one frame, which would jerk the knee.
     T catch_seconds = T(0.05);
+    /// A foot near the ground that moves faster than this fraction of the
+    /// clip's fast foot speed (the 95th percentile of its foot points'
+    /// speeds) is stepping, as a walk's swing skims the floor, not sliding:
+    /// the plant ends there and starts again where the foot slows down.
+    /// Holding it would drag the step back by max_correction.
+    T slide_fraction = T(0.4);
     /// Weight of the foot's recorded world orientation against its position
     /// (a length, in body heights): the foot keeps its roll.
     T orientation_weight = T(0.05);
@@ -148,6 +157,25 @@ std::vector<frame_goals<T>> leg_goals(const skeleton<T>& sk, const contact_set<T
     return goals;
 }
 
+/// The stillest of a foot's points near the ground in measured frame f:
+/// the one carrying the weight (heel, ball or toe as the foot rolls), whose
+/// slide foot_skate measures and plant_feet takes out. Its index and speed
+/// (the largest finite value when no point is near the ground).
+template <class T>
+std::pair<std::size_t, T> weight_point(const foot_points<T>& fp, std::size_t f, T height_off) {
+    const std::size_t row = f * fp.points;
+    std::size_t best = 0;
+    T best_speed = std::numeric_limits<T>::infinity();
+    for (std::size_t q = 0; q < fp.points; ++q) {
+        const T speed = fp.rise[row + q] <= height_off ? fp.speed[row + q] : std::numeric_limits<T>::max();
+        if (speed < best_speed) {
+            best_speed = speed;
+            best = q;
+        }
+    }
+    return {best, best_speed};
+}
+
 /// Smooth fade from 1 (s = 0) to 0 (s = 1).
 template <class T>
 T fade_out(T s) {
@@ -170,6 +198,7 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
     check_non_negative(who, "orientation_weight", params.orientation_weight);
     check_non_negative(who, "max_correction", params.max_correction);
     check_non_negative(who, "catch_seconds", params.catch_seconds);
+    check_positive(who, "slide_fraction", params.slide_fraction);
     const auto& sk = c.skeleton();
     const std::size_t frames = c.frames();
     for (const auto& foot : contacts.feet) {
@@ -213,6 +242,9 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
     std::vector<std::size_t> foot_joints;
     for (const auto& foot : contacts.feet) foot_joints.push_back(foot.joint);
     const auto measured = detail::measure_feet(c, foot_joints, contacts.lead_in, contacts, params.contacts);
+    std::vector<T> all_speeds;
+    for (const auto& fp : measured) all_speeds.insert(all_speeds.end(), fp.speed.begin(), fp.speed.end());
+    const T slide_speed = params.slide_fraction * detail::quantile(all_speeds, T(0.95));
     for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
         const auto& foot = contacts.feet[i];
         if (!detail::has_leg(sk, foot.joint)) continue;
@@ -222,40 +254,36 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
             if (sk[j].end_site) foot_points.emplace_back(j, 1);
         }
         const auto& fp = measured[i];
-        const auto& runs = foot.contacts;
-        for (std::size_t r = 0; r < runs.size(); ++r) {
-            if (!detail::touches(runs[r], params.ranges)) continue;
+        const auto weight_point = [&](std::size_t f) {
+            return detail::weight_point(fp, f - contacts.lead_in, params.contacts.height_off);
+        };
+        // The stretches of the touched runs where the foot is not stepping.
+        std::vector<frame_interval> stances;
+        for (const auto& run : foot.contacts) {
+            if (!detail::touches(run, params.ranges)) continue;
             ++out.runs;
+            std::vector<bool> slow(run.last - run.first + 1);
+            for (std::size_t f = run.first; f <= run.last; ++f)
+                slow[f - run.first] = f >= contacts.lead_in && weight_point(f).second < slide_speed;
+            for (const auto& s : true_runs(slow)) stances.push_back({run.first + s.first, run.first + s.last});
+        }
+        for (std::size_t r = 0; r < stances.size(); ++r) {
             vector3 slid = vector3::Zero();
-            correction[runs[r].first][i] = vector3::Zero();
-            for (std::size_t f = runs[r].first + 1; f <= runs[r].last; ++f) {
-                // The stillest point near the ground carries the foot's
-                // weight (heel, ball or toe as it rolls): its slide is what
-                // foot_skate measures, and what is summed and taken out.
-                const std::size_t row = (f - contacts.lead_in) * fp.points;
-                std::size_t best = 0;
-                T best_speed = std::numeric_limits<T>::infinity();
-                for (std::size_t q = 0; q < fp.points; ++q) {
-                    const bool low = fp.rise[row + q] <= params.contacts.height_off;
-                    const T speed = low ? fp.speed[row + q] : std::numeric_limits<T>::max();
-                    if (speed < best_speed) {
-                        best_speed = speed;
-                        best = q;
-                    }
-                }
-                const auto [j, tip] = foot_points[best];
+            correction[stances[r].first][i] = vector3::Zero();
+            for (std::size_t f = stances[r].first + 1; f <= stances[r].last; ++f) {
+                const auto [j, tip] = foot_points[weight_point(f).first];
                 slid += flat(point(f, j, tip) - point(f - 1, j, tip));
                 if (slid.norm() > reach) slid *= reach / slid.norm();
-                const std::size_t k = f - runs[r].first;
+                const std::size_t k = f - stances[r].first;
                 const T ease = k >= catching ? T(1) : T(1) - detail::fade_out(static_cast<T>(k) / static_cast<T>(catching));
                 correction[f][i] = vector3(-slid * ease);
                 out.largest_correction = std::max(out.largest_correction, slid.norm());
             }
-            // Fade the last correction out over the swing to the next run.
-            const std::size_t next = r + 1 < runs.size() ? runs[r + 1].first : frames;
-            const std::size_t span = std::min(release, next - runs[r].last - 1);
+            // Fade the last correction out over the swing to the next stance.
+            const std::size_t next = r + 1 < stances.size() ? stances[r + 1].first : frames;
+            const std::size_t span = std::min(release, next - stances[r].last - 1);
             for (std::size_t k = 1; k <= span; ++k)
-                correction[runs[r].last + k][i] =
+                correction[stances[r].last + k][i] =
                     vector3(-slid * detail::fade_out(static_cast<T>(k) / static_cast<T>(span + 1)));
         }
     }
