@@ -242,9 +242,7 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
     std::vector<std::size_t> foot_joints;
     for (const auto& foot : contacts.feet) foot_joints.push_back(foot.joint);
     const auto measured = detail::measure_feet(c, foot_joints, contacts.lead_in, contacts, params.contacts);
-    std::vector<T> all_speeds;
-    for (const auto& fp : measured) all_speeds.insert(all_speeds.end(), fp.speed.begin(), fp.speed.end());
-    const T slide_speed = params.slide_fraction * detail::quantile(all_speeds, T(0.95));
+    const T slide_speed = params.slide_fraction * detail::fast_foot_speed(measured);
     for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
         const auto& foot = contacts.feet[i];
         if (!detail::has_leg(sk, foot.joint)) continue;
@@ -254,24 +252,26 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
             if (sk[j].end_site) foot_points.emplace_back(j, 1);
         }
         const auto& fp = measured[i];
-        const auto weight_point = [&](std::size_t f) {
-            return detail::weight_point(fp, f - contacts.lead_in, params.contacts.height_off);
-        };
-        // The stretches of the touched runs where the foot is not stepping.
+        // The stretches of the touched runs where the foot is not stepping,
+        // and in each of their frames the point that carries the weight.
         std::vector<frame_interval> stances;
+        std::vector<std::size_t> carrier(frames);
         for (const auto& run : foot.contacts) {
             if (!detail::touches(run, params.ranges)) continue;
             ++out.runs;
             std::vector<bool> slow(run.last - run.first + 1);
-            for (std::size_t f = run.first; f <= run.last; ++f)
-                slow[f - run.first] = f >= contacts.lead_in && weight_point(f).second < slide_speed;
+            for (std::size_t f = std::max(run.first, contacts.lead_in); f <= run.last; ++f) {
+                const auto [q, speed] = detail::weight_point(fp, f - contacts.lead_in, params.contacts.height_off);
+                carrier[f] = q;
+                slow[f - run.first] = speed < slide_speed;
+            }
             for (const auto& s : true_runs(slow)) stances.push_back({run.first + s.first, run.first + s.last});
         }
         for (std::size_t r = 0; r < stances.size(); ++r) {
             vector3 slid = vector3::Zero();
             correction[stances[r].first][i] = vector3::Zero();
             for (std::size_t f = stances[r].first + 1; f <= stances[r].last; ++f) {
-                const auto [j, tip] = foot_points[weight_point(f).first];
+                const auto [j, tip] = foot_points[carrier[f]];
                 slid += flat(point(f, j, tip) - point(f - 1, j, tip));
                 if (slid.norm() > reach) slid *= reach / slid.norm();
                 const std::size_t k = f - stances[r].first;
