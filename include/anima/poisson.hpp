@@ -9,6 +9,7 @@
 #include <anima/poisson/fft.hpp>
 #include <anima/poisson/gradient_field.hpp>
 #include <anima/poisson/grid.hpp>
+#include <anima/poisson/instances.hpp>
 #include <anima/poisson/laplacian.hpp>
 #include <anima/poisson/multigrid_poisson.hpp>
 #include <anima/poisson/problem.hpp>

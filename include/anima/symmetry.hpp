@@ -4,6 +4,7 @@
 #pragma once
 
 #include <anima/motion/resequence.hpp>
+#include <anima/symmetry/instances.hpp>
 #include <anima/symmetry/symmetric_playback.hpp>
 #include <anima/symmetry/symmetry_scores.hpp>
 #include <anima/symmetry/video_texture.hpp>

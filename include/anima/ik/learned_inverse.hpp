@@ -73,55 +73,7 @@ public:
     /// clip_poses). The tree's root must be fixed and its translation not a
     /// DOF (effectors are measured in the root's frame).
     static learned_ik_model train(const kinematic_tree<T>& tree, std::vector<ik_effector<T>> effectors,
-                                  const ik_matrix<T>& poses, const learned_ik_params<T>& prm = {}) {
-        const std::string who = "anima::learned_ik_model::train";
-        check_tree(tree, who);
-        if (effectors.empty()) throw invalid_argument(who + ": no effectors");
-        for (const auto& e : effectors)
-            if (!e.offset.allFinite())
-                throw invalid_argument(who + ": effector '" + e.joint + "' has a non-finite offset");
-        if (poses.rows() != tree.dofs() || poses.cols() < 2 || !poses.allFinite())
-            throw invalid_argument(who + ": need at least 2 finite poses of " + std::to_string(tree.dofs()) +
-                                   " DOFs, got " + std::to_string(poses.cols()) + " of " + std::to_string(poses.rows()));
-        if (prm.rows < 1 || prm.cols < 1 || prm.epochs < 1 || !(prm.learning_rate > T(0)) || !(prm.ridge > T(0)) ||
-            !(prm.radius >= T(0)))
-            throw invalid_argument(who + ": grid " + std::to_string(prm.rows) + " x " + std::to_string(prm.cols) +
-                                   ", epochs " + std::to_string(prm.epochs) +
-                                   ": sizes and epochs must be >= 1, rate and ridge > 0, radius >= 0");
-        learned_ik_model m;
-        m.dofs_ = tree.dofs();
-        m.effectors_ = std::move(effectors);
-        const auto joints = m.resolve(tree, who);
-        const T radius = prm.radius > T(0) ? prm.radius : T(std::max(prm.rows, prm.cols)) / T(2);
-        m.centres_ = detail::train_som<T>(poses, prm.rows, prm.cols, prm.epochs, prm.learning_rate, radius, prm.seed);
-        const Eigen::Index k = m.centres_.cols(), e3 = 3 * static_cast<Eigen::Index>(m.effectors_.size());
-        m.centre_effectors_.resize(e3, k);
-        for (Eigen::Index c = 0; c < k; ++c)
-            m.centre_effectors_.col(c) = m.effectors_of(tree, joints, m.centres_.col(c));
-
-        // Eq 3 per cluster: J+ = dQ dG^T (dG dG^T + r I)^-1 (r small, relative).
-        std::vector<std::vector<Eigen::Index>> members(static_cast<std::size_t>(k));
-        for (Eigen::Index s = 0; s < poses.cols(); ++s)
-            members[static_cast<std::size_t>(detail::nearest_column<T>(m.centres_, poses.col(s)))].push_back(s);
-        m.inverses_.assign(static_cast<std::size_t>(k), ik_matrix<T>());
-        for (Eigen::Index c = 0; c < k; ++c) {
-            const auto& mem = members[static_cast<std::size_t>(c)];
-            if (mem.size() < 2) continue;  // too few to fit: the solve falls back on DLS here
-            ik_matrix<T> dq(m.dofs_, static_cast<Eigen::Index>(mem.size())), dg(e3, dq.cols());
-            for (std::size_t i = 0; i < mem.size(); ++i) {
-                dq.col(static_cast<Eigen::Index>(i)) = poses.col(mem[i]) - m.centres_.col(c);
-                dg.col(static_cast<Eigen::Index>(i)) = m.effectors_of(tree, joints, poses.col(mem[i])) - m.centre_effectors_.col(c);
-            }
-            ik_matrix<T> a = dg * dg.transpose();
-            // The ridge is floored a little above the scalar's rounding so
-            // that a rank-deficient cluster still gives a finite fit.
-            const T rel = std::max(prm.ridge, T(64) * std::numeric_limits<T>::epsilon());
-            a.diagonal().array() += rel * (a.trace() / T(e3)) + std::numeric_limits<T>::min();
-            ik_matrix<T> inv = (a.ldlt().solve(dg * dq.transpose())).transpose();
-            if (inv.allFinite()) m.inverses_[static_cast<std::size_t>(c)] = std::move(inv);
-        }
-        return m;
-    }
+                                  const ik_matrix<T>& poses, const learned_ik_params<T>& prm = {});
 
     int dofs() const noexcept { return dofs_; }
     Eigen::Index clusters() const noexcept { return centres_.cols(); }
@@ -347,6 +299,61 @@ private:
     ik_matrix<T> centres_, centre_effectors_;
     std::vector<ik_matrix<T>> inverses_;
 };
+
+// Out of the class body so that builds compiling anima's instantiations once
+// (ik/instances.hpp) can declare it extern: clang instantiates members
+// defined in the class wherever they are used.
+template <class T>
+learned_ik_model<T> learned_ik_model<T>::train(const kinematic_tree<T>& tree, std::vector<ik_effector<T>> effectors,
+                                               const ik_matrix<T>& poses, const learned_ik_params<T>& prm) {
+    const std::string who = "anima::learned_ik_model::train";
+    check_tree(tree, who);
+    if (effectors.empty()) throw invalid_argument(who + ": no effectors");
+    for (const auto& e : effectors)
+        if (!e.offset.allFinite())
+            throw invalid_argument(who + ": effector '" + e.joint + "' has a non-finite offset");
+    if (poses.rows() != tree.dofs() || poses.cols() < 2 || !poses.allFinite())
+        throw invalid_argument(who + ": need at least 2 finite poses of " + std::to_string(tree.dofs()) +
+                               " DOFs, got " + std::to_string(poses.cols()) + " of " + std::to_string(poses.rows()));
+    if (prm.rows < 1 || prm.cols < 1 || prm.epochs < 1 || !(prm.learning_rate > T(0)) || !(prm.ridge > T(0)) ||
+        !(prm.radius >= T(0)))
+        throw invalid_argument(who + ": grid " + std::to_string(prm.rows) + " x " + std::to_string(prm.cols) +
+                               ", epochs " + std::to_string(prm.epochs) +
+                               ": sizes and epochs must be >= 1, rate and ridge > 0, radius >= 0");
+    learned_ik_model m;
+    m.dofs_ = tree.dofs();
+    m.effectors_ = std::move(effectors);
+    const auto joints = m.resolve(tree, who);
+    const T radius = prm.radius > T(0) ? prm.radius : T(std::max(prm.rows, prm.cols)) / T(2);
+    m.centres_ = detail::train_som<T>(poses, prm.rows, prm.cols, prm.epochs, prm.learning_rate, radius, prm.seed);
+    const Eigen::Index k = m.centres_.cols(), e3 = 3 * static_cast<Eigen::Index>(m.effectors_.size());
+    m.centre_effectors_.resize(e3, k);
+    for (Eigen::Index c = 0; c < k; ++c)
+        m.centre_effectors_.col(c) = m.effectors_of(tree, joints, m.centres_.col(c));
+
+    // Eq 3 per cluster: J+ = dQ dG^T (dG dG^T + r I)^-1 (r small, relative).
+    std::vector<std::vector<Eigen::Index>> members(static_cast<std::size_t>(k));
+    for (Eigen::Index s = 0; s < poses.cols(); ++s)
+        members[static_cast<std::size_t>(detail::nearest_column<T>(m.centres_, poses.col(s)))].push_back(s);
+    m.inverses_.assign(static_cast<std::size_t>(k), ik_matrix<T>());
+    for (Eigen::Index c = 0; c < k; ++c) {
+        const auto& mem = members[static_cast<std::size_t>(c)];
+        if (mem.size() < 2) continue;  // too few to fit: the solve falls back on DLS here
+        ik_matrix<T> dq(m.dofs_, static_cast<Eigen::Index>(mem.size())), dg(e3, dq.cols());
+        for (std::size_t i = 0; i < mem.size(); ++i) {
+            dq.col(static_cast<Eigen::Index>(i)) = poses.col(mem[i]) - m.centres_.col(c);
+            dg.col(static_cast<Eigen::Index>(i)) = m.effectors_of(tree, joints, poses.col(mem[i])) - m.centre_effectors_.col(c);
+        }
+        ik_matrix<T> a = dg * dg.transpose();
+        // The ridge is floored a little above the scalar's rounding so
+        // that a rank-deficient cluster still gives a finite fit.
+        const T rel = std::max(prm.ridge, T(64) * std::numeric_limits<T>::epsilon());
+        a.diagonal().array() += rel * (a.trace() / T(e3)) + std::numeric_limits<T>::min();
+        ik_matrix<T> inv = (a.ldlt().solve(dg * dq.transpose())).transpose();
+        if (inv.allFinite()) m.inverses_[static_cast<std::size_t>(c)] = std::move(inv);
+    }
+    return m;
+}
 
 /// Options of solve_ik_learned: the shared ones (tolerances, limits,
 /// iterations of the DLS polish), the learned steps, the polish's damping.

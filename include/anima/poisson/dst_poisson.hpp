@@ -90,11 +90,7 @@ public:
     /// for). Safe to call from several threads on one object.
     poisson_result<T> solve(const poisson_problem<T>& p) const {
         const std::string who = "anima::dst_poisson::solve";
-        detail::check_poisson_problem(p, who);
-        if (!detail::same_operator(p.grid, grid_))
-            throw invalid_argument(who + ": the problem's grid (size, spacing or boundaries) differs from the grid "
-                                         "the solver was planned for");
-        const auto folded = detail::fold_rhs(p);
+        const auto folded = detail::checked_fold_rhs(p, grid_, who);
         poisson_result<T> res;
         res.removed_mean = folded.removed_mean;
         matrix b = folded.b;

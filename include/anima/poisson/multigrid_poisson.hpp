@@ -115,202 +115,18 @@ private:
     using level = detail::mg::level<T>;
     using index = Eigen::Index;
 
-    void build() {
-        using detail::mg::at;
-        const bool masked = grid_.masked();
-        const bool y_neu = grid_.top_bottom == boundary::neumann, x_neu = grid_.left_right == boundary::neumann;
-        levels_.clear();
-        levels_.emplace_back();
-        level& f = levels_.back();
-        f.first = true;
-        f.ny = grid_.rows;
-        f.nx = grid_.cols;
-        f.ld = f.ny + 2;
-        f.hy = grid_.hy;
-        f.hx = grid_.hx;
-        for (index i = 0; i < f.ny; ++i) f.ypos.push_back(static_cast<double>(i));
-        for (index j = 0; j < f.nx; ++j) f.xpos.push_back(static_cast<double>(j));
-        f.cy = T(1) / (grid_.hy * grid_.hy);
-        f.cx = T(1) / (grid_.hx * grid_.hx);
-        const auto diagonal_1d = [](index n, T c, bool neumann) {
-            std::vector<T> d(at(n + 2), T(0));
-            for (index i = 0; i < n; ++i) {
-                // Two neighbours, less the ones beyond a Neumann side.
-                int k = 2;
-                if (neumann && i == 0) --k;
-                if (neumann && i == n - 1) --k;
-                d[at(i + 1)] = c * T(k);
-            }
-            return d;
-        };
-        f.dy = diagonal_1d(f.ny, f.cy, y_neu);
-        f.dx = diagonal_1d(f.nx, f.cx, x_neu);
-        if (masked) {
-            f.active.assign(at(f.size()), 0);
-            for (index j = 0; j < f.nx; ++j)
-                for (index i = 0; i < f.ny; ++i) f.active[at(f.at2(i, j))] = grid_.mask(i, j) ? 1 : 0;
-        } else {
-            const auto factors = [](const std::vector<T>& d, index n, T c, detail::mg::tridiagonal<T>& k,
-                                    detail::mg::tridiagonal<T>& m) {
-                k.d.assign(d.begin() + 1, d.begin() + 1 + n);
-                k.l.assign(at(n), -c);
-                k.l[0] = T(0);
-                m.d.assign(at(n), T(1));
-                m.l.assign(at(n), T(0));
-            };
-            factors(f.dy, f.ny, f.cy, f.ky, f.my);
-            factors(f.dx, f.nx, f.cx, f.kx, f.mx);
-        }
-        detail::mg::first_level_classes(f);
-        if (grid_.unknowns() > 0) {
-            for (;;) {
-                level& L = levels_.back();
-                const bool can_y = L.ny >= 3, can_x = L.nx >= 3;
-                if ((!can_y && !can_x) || L.ny * L.nx <= prm_.coarsest_cells) break;
-                const T hmin = can_y && can_x ? std::min(L.hy, L.hx) : can_y ? L.hy : L.hx;
-                const T limit = hmin * T(1.4142135623730951);
-                const bool cy = can_y && L.hy <= limit, cx = can_x && L.hx <= limit;
-                const auto hi_y = static_cast<double>(grid_.rows), hi_x = static_cast<double>(grid_.cols);
-                L.ymap = detail::mg::make_axis_map<T>(L.ypos, -1.0, hi_y, cy, y_neu);
-                L.xmap = detail::mg::make_axis_map<T>(L.xpos, -1.0, hi_x, cx, x_neu);
-                level c;
-                c.ny = L.ymap.coarse;
-                c.nx = L.xmap.coarse;
-                c.ld = c.ny + 2;
-                c.hy = cy ? 2 * L.hy : L.hy;
-                c.hx = cx ? 2 * L.hx : L.hx;
-                // Coarse point k sits on fine point 2k + 1.
-                for (index k = 0; k < c.ny; ++k) c.ypos.push_back(cy ? L.ypos[at(2 * k + 1)] : L.ypos[at(k)]);
-                for (index k = 0; k < c.nx; ++k) c.xpos.push_back(cx ? L.xpos[at(2 * k + 1)] : L.xpos[at(k)]);
-                if (masked) {
-                    detail::mg::galerkin_2d(L, c);
-                    detail::mg::finish_stored_level(c, true);
-                } else {
-                    c.ky = detail::mg::galerkin_1d(L.ky, L.ymap);
-                    c.my = detail::mg::galerkin_1d(L.my, L.ymap);
-                    c.kx = detail::mg::galerkin_1d(L.kx, L.xmap);
-                    c.mx = detail::mg::galerkin_1d(L.mx, L.xmap);
-                    // The stencil as a few column vectors; stored in full
-                    // only if the factors vary along the columns.
-                    if (!detail::mg::tensor_classes(c, 16)) {
-                        detail::mg::stencil_from_factors(c);
-                        detail::mg::finish_stored_level(c, false);
-                    }
-                }
-                levels_.push_back(std::move(c));
-            }
-        }
-        for (auto& L : levels_) {
-            L.u.assign(at(L.size()), T(0));
-            L.b = L.u;
-        }
-        coarse_.factor(levels_.back(), grid_.singular());
-    }
+    void build();
 
     // One cycle on level l; returns ||b - A u||^2 afterwards when `norm`.
-    T cycle(std::size_t l, bool norm) {
-        using namespace detail::mg;
-        level& L = levels_[l];
-        if (l + 1 == levels_.size()) {
-            coarse_.solve(L);
-            return norm ? residual_norm2(L) : T(0);
-        }
-        level& c = levels_[l + 1];
-        presmooth_restrict(L, c, prm_.pre_sweeps, ring_);
-        std::fill(c.u.begin(), c.u.end(), T(0));
-        const int visits = prm_.cycle == multigrid_cycle::w && l + 2 < levels_.size() ? 2 : 1;
-        for (int k = 0; k < visits; ++k) cycle(l + 1, false);
-        return prolong_postsmooth(c, L, prm_.post_sweeps, norm, ring_);
-    }
+    T cycle(std::size_t l, bool norm);
 
-    poisson_result<T> run(const poisson_problem<T>& p, const matrix* guess) {
-        using detail::mg::at;
-        const std::string who = "anima::multigrid_poisson::solve";
-        detail::check_poisson_problem(p, who);
-        if (!detail::same_operator(p.grid, grid_))
-            throw invalid_argument(who + ": the problem's grid (size, spacing, boundaries or mask) differs from the "
-                                         "grid the solver was built for");
-        const auto folded = detail::fold_rhs(p);
-        poisson_result<T> res;
-        res.removed_mean = folded.removed_mean;
-        level& f = levels_.front();
-        std::fill(f.u.begin(), f.u.end(), T(0));
-        std::fill(f.b.begin(), f.b.end(), T(0));
-        for (index j = 0; j < f.nx; ++j)
-            for (index i = 0; i < f.ny; ++i) {
-                const auto k = at(f.at2(i, j));
-                if (!grid_.unknown(i, j)) continue;
-                f.b[k] = folded.b(i, j);
-                if (guess) f.u[k] = (*guess)(i, j);
-            }
-        const T bnorm = folded.b.norm();
-        if (bnorm > T(0) && grid_.unknowns() > 0) {
-            T r = T(0);
-            if (levels_.size() == 1) {
-                coarse_.solve(f);
-                res.iterations = 1;
-                r = std::sqrt(detail::mg::residual_norm2(f)) / bnorm;
-                res.residual_history.push_back(r);
-            } else {
-                if (prm_.full_multigrid) {
-                    r = std::sqrt(full_multigrid_pass()) / bnorm;
-                    res.iterations = 1;
-                    res.residual_history.push_back(r);
-                } else {
-                    r = std::sqrt(detail::mg::residual_norm2(f)) / bnorm;
-                }
-                int slow = 0;
-                while (r > prm_.tolerance && res.iterations < prm_.max_cycles && std::isfinite(r)) {
-                    const T next = std::sqrt(cycle(0, true)) / bnorm;
-                    ++res.iterations;
-                    res.residual_history.push_back(next);
-                    // Rounding floor (e.g. float on a large grid): stop when
-                    // three cycles in a row gain less than 5% each.
-                    slow = next >= T(0.95) * r ? slow + 1 : 0;
-                    r = next;
-                    if (slow >= 3) break;
-                }
-            }
-            if (!std::isfinite(r))
-                throw error(who + ": the residual became non-finite (the right-hand side is too large for the scalar type)");
-            res.relative_residual = r;
-        } else {
-            std::fill(f.u.begin(), f.u.end(), T(0));
-        }
-        res.converged = res.relative_residual <= prm_.tolerance;
-        res.u = p.fixed.size() ? p.fixed : matrix::Zero(grid_.rows, grid_.cols);
-        T sum = T(0);
-        for (index j = 0; j < f.nx; ++j)
-            for (index i = 0; i < f.ny; ++i)
-                if (grid_.unknown(i, j)) {
-                    res.u(i, j) = f.u[at(f.at2(i, j))];
-                    sum += res.u(i, j);
-                }
-        if (grid_.singular()) res.u.array() -= sum / static_cast<T>(grid_.cells());
-        return res;
-    }
+    poisson_result<T> run(const poisson_problem<T>& p, const matrix* guess);
 
     // Restricts the residual of the start down the hierarchy, solves the
     // coarsest level, and works back up with one cycle per level, each
     // started from the interpolated coarser solution. Returns the squared
     // residual norm on level 0 afterwards.
-    T full_multigrid_pass() {
-        using namespace detail::mg;
-        const std::size_t last = levels_.size() - 1;
-        // With u = 0 on the coarse levels, "residual and restrict" restricts b.
-        presmooth_restrict(levels_[0], levels_[1], 0, ring_);
-        for (std::size_t l = 1; l < last; ++l) {
-            std::fill(levels_[l].u.begin(), levels_[l].u.end(), T(0));
-            presmooth_restrict(levels_[l], levels_[l + 1], 0, ring_);
-        }
-        coarse_.solve(levels_[last]);
-        for (std::size_t l = last; l-- > 0;) {
-            if (l > 0) std::fill(levels_[l].u.begin(), levels_[l].u.end(), T(0));
-            for (index j = 0; j < levels_[l].nx; ++j) prolong_column(levels_[l + 1], levels_[l], j, ring_);
-            if (l > 0) cycle(l, false);
-        }
-        return cycle(0, true);
-    }
+    T full_multigrid_pass();
 
     poisson_grid<T> grid_;
     params prm_;
@@ -318,6 +134,202 @@ private:
     detail::mg::coarse_solver<T> coarse_;
     std::vector<T> ring_;
 };
+
+// The heavy members are defined out of the class body so that builds
+// compiling anima's instantiations once (poisson/instances.hpp) can declare
+// them extern: clang instantiates members defined in the class wherever
+// they are used.
+template <class T>
+void multigrid_poisson<T>::build() {
+    using detail::mg::at;
+    const bool masked = grid_.masked();
+    const bool y_neu = grid_.top_bottom == boundary::neumann, x_neu = grid_.left_right == boundary::neumann;
+    levels_.clear();
+    levels_.emplace_back();
+    level& f = levels_.back();
+    f.first = true;
+    f.ny = grid_.rows;
+    f.nx = grid_.cols;
+    f.ld = f.ny + 2;
+    f.hy = grid_.hy;
+    f.hx = grid_.hx;
+    for (index i = 0; i < f.ny; ++i) f.ypos.push_back(static_cast<double>(i));
+    for (index j = 0; j < f.nx; ++j) f.xpos.push_back(static_cast<double>(j));
+    f.cy = T(1) / (grid_.hy * grid_.hy);
+    f.cx = T(1) / (grid_.hx * grid_.hx);
+    const auto diagonal_1d = [](index n, T c, bool neumann) {
+        std::vector<T> d(at(n + 2), T(0));
+        for (index i = 0; i < n; ++i) {
+            // Two neighbours, less the ones beyond a Neumann side.
+            int k = 2;
+            if (neumann && i == 0) --k;
+            if (neumann && i == n - 1) --k;
+            d[at(i + 1)] = c * T(k);
+        }
+        return d;
+    };
+    f.dy = diagonal_1d(f.ny, f.cy, y_neu);
+    f.dx = diagonal_1d(f.nx, f.cx, x_neu);
+    if (masked) {
+        f.active.assign(at(f.size()), 0);
+        for (index j = 0; j < f.nx; ++j)
+            for (index i = 0; i < f.ny; ++i) f.active[at(f.at2(i, j))] = grid_.mask(i, j) ? 1 : 0;
+    } else {
+        const auto factors = [](const std::vector<T>& d, index n, T c, detail::mg::tridiagonal<T>& k,
+                                detail::mg::tridiagonal<T>& m) {
+            k.d.assign(d.begin() + 1, d.begin() + 1 + n);
+            k.l.assign(at(n), -c);
+            k.l[0] = T(0);
+            m.d.assign(at(n), T(1));
+            m.l.assign(at(n), T(0));
+        };
+        factors(f.dy, f.ny, f.cy, f.ky, f.my);
+        factors(f.dx, f.nx, f.cx, f.kx, f.mx);
+    }
+    detail::mg::first_level_classes(f);
+    if (grid_.unknowns() > 0) {
+        for (;;) {
+            level& L = levels_.back();
+            const bool can_y = L.ny >= 3, can_x = L.nx >= 3;
+            if ((!can_y && !can_x) || L.ny * L.nx <= prm_.coarsest_cells) break;
+            const T hmin = can_y && can_x ? std::min(L.hy, L.hx) : can_y ? L.hy : L.hx;
+            const T limit = hmin * T(1.4142135623730951);
+            const bool cy = can_y && L.hy <= limit, cx = can_x && L.hx <= limit;
+            const auto hi_y = static_cast<double>(grid_.rows), hi_x = static_cast<double>(grid_.cols);
+            L.ymap = detail::mg::make_axis_map<T>(L.ypos, -1.0, hi_y, cy, y_neu);
+            L.xmap = detail::mg::make_axis_map<T>(L.xpos, -1.0, hi_x, cx, x_neu);
+            level c;
+            c.ny = L.ymap.coarse;
+            c.nx = L.xmap.coarse;
+            c.ld = c.ny + 2;
+            c.hy = cy ? 2 * L.hy : L.hy;
+            c.hx = cx ? 2 * L.hx : L.hx;
+            // Coarse point k sits on fine point 2k + 1.
+            for (index k = 0; k < c.ny; ++k) c.ypos.push_back(cy ? L.ypos[at(2 * k + 1)] : L.ypos[at(k)]);
+            for (index k = 0; k < c.nx; ++k) c.xpos.push_back(cx ? L.xpos[at(2 * k + 1)] : L.xpos[at(k)]);
+            if (masked) {
+                detail::mg::galerkin_2d(L, c);
+                detail::mg::finish_stored_level(c, true);
+            } else {
+                c.ky = detail::mg::galerkin_1d(L.ky, L.ymap);
+                c.my = detail::mg::galerkin_1d(L.my, L.ymap);
+                c.kx = detail::mg::galerkin_1d(L.kx, L.xmap);
+                c.mx = detail::mg::galerkin_1d(L.mx, L.xmap);
+                // The stencil as a few column vectors; stored in full
+                // only if the factors vary along the columns.
+                if (!detail::mg::tensor_classes(c, 16)) {
+                    detail::mg::stencil_from_factors(c);
+                    detail::mg::finish_stored_level(c, false);
+                }
+            }
+            levels_.push_back(std::move(c));
+        }
+    }
+    for (auto& L : levels_) {
+        L.u.assign(at(L.size()), T(0));
+        L.b = L.u;
+    }
+    coarse_.factor(levels_.back(), grid_.singular());
+}
+
+template <class T>
+T multigrid_poisson<T>::cycle(std::size_t l, bool norm) {
+    using namespace detail::mg;
+    level& L = levels_[l];
+    if (l + 1 == levels_.size()) {
+        coarse_.solve(L);
+        return norm ? residual_norm2(L) : T(0);
+    }
+    level& c = levels_[l + 1];
+    presmooth_restrict(L, c, prm_.pre_sweeps, ring_);
+    std::fill(c.u.begin(), c.u.end(), T(0));
+    const int visits = prm_.cycle == multigrid_cycle::w && l + 2 < levels_.size() ? 2 : 1;
+    for (int k = 0; k < visits; ++k) cycle(l + 1, false);
+    return prolong_postsmooth(c, L, prm_.post_sweeps, norm, ring_);
+}
+
+template <class T>
+poisson_result<T> multigrid_poisson<T>::run(const poisson_problem<T>& p, const matrix* guess) {
+    using detail::mg::at;
+    const std::string who = "anima::multigrid_poisson::solve";
+    const auto folded = detail::checked_fold_rhs(p, grid_, who);
+    poisson_result<T> res;
+    res.removed_mean = folded.removed_mean;
+    level& f = levels_.front();
+    std::fill(f.u.begin(), f.u.end(), T(0));
+    std::fill(f.b.begin(), f.b.end(), T(0));
+    for (index j = 0; j < f.nx; ++j)
+        for (index i = 0; i < f.ny; ++i) {
+            const auto k = at(f.at2(i, j));
+            if (!grid_.unknown(i, j)) continue;
+            f.b[k] = folded.b(i, j);
+            if (guess) f.u[k] = (*guess)(i, j);
+        }
+    const T bnorm = folded.b.norm();
+    if (bnorm > T(0) && grid_.unknowns() > 0) {
+        T r = T(0);
+        if (levels_.size() == 1) {
+            coarse_.solve(f);
+            res.iterations = 1;
+            r = std::sqrt(detail::mg::residual_norm2(f)) / bnorm;
+            res.residual_history.push_back(r);
+        } else {
+            if (prm_.full_multigrid) {
+                r = std::sqrt(full_multigrid_pass()) / bnorm;
+                res.iterations = 1;
+                res.residual_history.push_back(r);
+            } else {
+                r = std::sqrt(detail::mg::residual_norm2(f)) / bnorm;
+            }
+            int slow = 0;
+            while (r > prm_.tolerance && res.iterations < prm_.max_cycles && std::isfinite(r)) {
+                const T next = std::sqrt(cycle(0, true)) / bnorm;
+                ++res.iterations;
+                res.residual_history.push_back(next);
+                // Rounding floor (e.g. float on a large grid): stop when
+                // three cycles in a row gain less than 5% each.
+                slow = next >= T(0.95) * r ? slow + 1 : 0;
+                r = next;
+                if (slow >= 3) break;
+            }
+        }
+        if (!std::isfinite(r))
+            throw error(who + ": the residual became non-finite (the right-hand side is too large for the scalar type)");
+        res.relative_residual = r;
+    } else {
+        std::fill(f.u.begin(), f.u.end(), T(0));
+    }
+    res.converged = res.relative_residual <= prm_.tolerance;
+    res.u = p.fixed.size() ? p.fixed : matrix::Zero(grid_.rows, grid_.cols);
+    T sum = T(0);
+    for (index j = 0; j < f.nx; ++j)
+        for (index i = 0; i < f.ny; ++i)
+            if (grid_.unknown(i, j)) {
+                res.u(i, j) = f.u[at(f.at2(i, j))];
+                sum += res.u(i, j);
+            }
+    if (grid_.singular()) res.u.array() -= sum / static_cast<T>(grid_.cells());
+    return res;
+}
+
+template <class T>
+T multigrid_poisson<T>::full_multigrid_pass() {
+    using namespace detail::mg;
+    const std::size_t last = levels_.size() - 1;
+    // With u = 0 on the coarse levels, "residual and restrict" restricts b.
+    presmooth_restrict(levels_[0], levels_[1], 0, ring_);
+    for (std::size_t l = 1; l < last; ++l) {
+        std::fill(levels_[l].u.begin(), levels_[l].u.end(), T(0));
+        presmooth_restrict(levels_[l], levels_[l + 1], 0, ring_);
+    }
+    coarse_.solve(levels_[last]);
+    for (std::size_t l = last; l-- > 0;) {
+        if (l > 0) std::fill(levels_[l].u.begin(), levels_[l].u.end(), T(0));
+        for (index j = 0; j < levels_[l].nx; ++j) prolong_column(levels_[l + 1], levels_[l], j, ring_);
+        if (l > 0) cycle(l, false);
+    }
+    return cycle(0, true);
+}
 
 /// Builds a multigrid solver for the problem's grid and solves it once.
 template <class T>

@@ -190,5 +190,16 @@ folded_rhs<T> fold_rhs(const poisson_problem<T>& p) {
     return out;
 }
 
+/// The checks every grid solver starts a solve with (a valid problem on the
+/// grid it was built for), then the folded right-hand side.
+template <class T>
+folded_rhs<T> checked_fold_rhs(const poisson_problem<T>& p, const poisson_grid<T>& built_for, const std::string& who) {
+    check_poisson_problem(p, who);
+    if (!same_operator(p.grid, built_for))
+        throw invalid_argument(who + ": the problem's grid (size, spacing, boundaries or mask) differs from the "
+                                     "grid the solver was built for");
+    return fold_rhs(p);
+}
+
 }  // namespace detail
 }  // namespace anima

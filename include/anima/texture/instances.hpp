@@ -7,6 +7,7 @@
 
 #include <anima/ik/instances.hpp>  // texture plants feet: its instances are compiled there
 #include <anima/motion/instances.hpp>
+#include <anima/poisson/instances.hpp>  // seam smoothing solves with multigrid: compiled there
 #include <anima/texture/motion_texture.hpp>
 #include <anima/texture/texton.hpp>
 
