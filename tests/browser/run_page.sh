@@ -42,7 +42,9 @@ fi
 
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 2
 echo "anima $*"
-"$anima" "$@" >stdout.txt 2>stderr.txt || { cat stderr.txt; echo "FAIL: anima exited with $?" >&2; exit 1; }
+"$anima" "$@" >stdout.txt 2>stderr.txt
+anima_status=$?
+[[ $anima_status == 0 ]] || { cat stderr.txt; echo "FAIL: anima exited with $anima_status" >&2; exit 1; }
 [[ -s $page ]] || { echo "FAIL: $page was not written" >&2; exit 1; }
 
 flags=(--headless --no-first-run --no-default-browser-check --user-data-dir="$PWD/profile"
