@@ -7,16 +7,21 @@
 
 #include <CLI/CLI.hpp>
 
+#include <anima/motion/contacts.hpp>
+
 #include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace anima_cli {
 namespace {
 
 struct transition_options {
-    std::string a, b, output, view, method = "variable", timing = "velocity";
+    std::string a, b, output, view, feet_plot, method = "variable", timing = "velocity";
     std::size_t at = 0, to = 0;
     double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1;
     bool json = false, no_plant_feet = false;
@@ -29,8 +34,149 @@ void check_frame(std::size_t frame, const clip_t& c, const std::string& path, co
                       ")");
 }
 
+/// One panel of the feet plot: a value per frame of [first, last] for each
+/// foot, as the method left it (dashed) and planted (solid); frames where
+/// `shown` is false are gaps.
+struct feet_panel {
+    double top, height, peak;
+    std::string label;
+};
+
+void draw_feet_series(svg_document& svg, const feet_panel& panel, const std::vector<double>& values,
+                      const std::vector<bool>& shown, std::size_t first, std::size_t last, double left, double width,
+                      const char* colour, bool dashed) {
+    const auto x_of = [&](std::size_t f) {
+        return left + width * static_cast<double>(f - first) / static_cast<double>(std::max<std::size_t>(last - first, 1));
+    };
+    const auto y_of = [&](double v) { return panel.top + panel.height * (1 - std::clamp(v / panel.peak, 0.0, 1.0)); };
+    std::string points;
+    const auto flush = [&] {
+        if (!points.empty())
+            svg.raw("<polyline fill=\"none\" stroke=\"" + std::string(colour) + "\" stroke-width=\"" +
+                    (dashed ? "1.2\" stroke-dasharray=\"5,3\" opacity=\"0.8" : "1.8") + "\" points=\"" + points + "\"/>");
+        points.clear();
+    };
+    for (std::size_t f = first; f <= last; ++f) {
+        if (!shown[f]) {
+            flush();
+            continue;
+        }
+        points += svg_number(x_of(f)) + "," + svg_number(y_of(values[f])) + " ";
+    }
+    flush();
+}
+
+/// --feet-plot: each foot's height above its standing height and, while it
+/// is on the ground, its horizontal speed (the skate), through the window
+/// and half a second either side, as the method left them and planted.
+void write_feet_plot(const std::string& path, const std::string& title, const anima::joined_clip<double>& before,
+                     const anima::joined_clip<double>* planted, double ratio_before, double ratio_after) {
+    static const char* const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
+    anima::contact_params<double> p;
+    p.use_speed = false;  // on the ground by height, as plant_feet finds them: sliding counts
+    const auto cb = anima::find_contacts(before.motion, p);
+    const auto ca = planted ? anima::find_contacts(planted->motion, p) : cb;
+    const double dt = before.motion.frame_time();
+    const std::size_t n = before.motion.frames(), margin = static_cast<std::size_t>(std::lround(0.5 / dt));
+    const std::size_t first = before.start_frame > margin ? before.start_frame - margin : 0;
+    const std::size_t last = std::min(n - 1, before.end_frame + margin);
+    // The speed axis fits the window: a foot that touches down or lifts off
+    // outside it moves fast near the ground and would flatten the skate.
+    double rise_peak = 0.02, speed_peak = 0.1;
+    for (const auto* s : {&cb, &ca})
+        for (const auto& foot : s->feet)
+            for (std::size_t f = first; f <= last; ++f) {
+                rise_peak = std::max(rise_peak, foot.rise[f]);
+                if (foot.in_contact[f] && f >= before.start_frame && f <= before.end_frame)
+                    speed_peak = std::max(speed_peak, foot.speed[f]);
+            }
+    const double w = 900, left = 80, right = 20, plot_w = w - left - right;
+    const feet_panel rise{70, 190, rise_peak * 1.05, "foot height above standing (body heights)"};
+    const feet_panel speed{rise.top + rise.height + 50, 190, speed_peak * 1.05,
+                           "horizontal speed on the ground: skate (body heights/s)"};
+    const double axis_y = speed.top + speed.height, h = axis_y + 80;
+    svg_document svg(w, h, title);
+    svg.rect(0, 0, w, h, "#ffffff");
+    svg.text(w / 2, 22, title, 14, "#222", "middle", true);
+    std::string sub = "foot skate in the window: " + format_fixed(ratio_before, 2) + "x the clips' own";
+    if (planted) sub = "foot skate in the window: " + format_fixed(ratio_before, 2) + "x the clips' own as the method left it, " +
+                       format_fixed(ratio_after, 2) + "x planted";
+    svg.text(w / 2, 42, sub, 12, "#444", "middle");
+    const auto x_of = [&](std::size_t f) {
+        return left + plot_w * static_cast<double>(f - first) / static_cast<double>(std::max<std::size_t>(last - first, 1));
+    };
+    for (const auto* panel : {&rise, &speed}) {
+        svg.rect(x_of(std::max(before.start_frame, first)), panel->top,
+                 std::max(1.0, x_of(std::min(before.end_frame, last)) - x_of(std::max(before.start_frame, first))),
+                 panel->height, "#fdebd0");
+        for (const double v : nice_ticks(0, panel->peak, 4)) {
+            const double y = panel->top + panel->height * (1 - v / panel->peak);
+            svg.line(left, y, w - right, y, "#e4e4e4", 1);
+            svg.text(left - 6, y + 4, format_number(v, 3), 11, "#444", "end");
+        }
+        svg.line(left, panel->top + panel->height, w - right, panel->top + panel->height, "#444", 1);
+        svg.line(left, panel->top, left, panel->top + panel->height, "#444", 1);
+        svg.text(left, panel->top - 8, panel->label, 12, "#222", "start");
+    }
+    for (const double t : nice_ticks(static_cast<double>(first) * dt, static_cast<double>(last) * dt, 8)) {
+        const double x = left + plot_w * (t / dt - static_cast<double>(first)) / static_cast<double>(std::max<std::size_t>(last - first, 1));
+        if (x < left - 0.5 || x > w - right + 0.5) continue;
+        svg.line(x, axis_y, x, axis_y + 4, "#444", 1);
+        svg.text(x, axis_y + 17, format_number(t, 3), 11, "#444", "middle");
+    }
+    svg.text(left + plot_w / 2, axis_y + 36, "time in the joined clip (s); shaded: the transition window", 12, "#222", "middle");
+    const std::vector<bool> every(n, true);
+    double legend_x = left;
+    for (std::size_t i = 0; i < cb.feet.size(); ++i) {
+        const char* colour = colours[i % 4];
+        for (const bool dashed : {true, false}) {
+            const auto& s = dashed || !planted ? cb : ca;
+            if (dashed && !planted) continue;
+            draw_feet_series(svg, rise, s.feet[i].rise, every, first, last, left, plot_w, colour, dashed);
+            draw_feet_series(svg, speed, s.feet[i].speed, s.feet[i].in_contact, first, last, left, plot_w, colour, dashed);
+        }
+        svg.rect(legend_x, h - 22, 14, 4, colour);
+        svg.text(legend_x + 20, h - 16, cb.feet[i].name, 12, colour, "start");
+        legend_x += 30 + 8 * static_cast<double>(cb.feet[i].name.size());
+    }
+    if (planted) svg.text(w - right, h - 16, "dashed: as the method left them; solid: planted", 12, "#444", "end");
+    write_text_file(path, svg.str());
+}
+
+/// The text report of anima transition (what --json prints, for people).
+void print_transition(const transition_options& o, const json& out, const std::string& page_written) {
+    std::cout << o.method << " transition " << file_name(o.a) << " frame " << o.at << " -> " << file_name(o.b)
+              << " frame " << o.to << ": " << format_fixed(out["duration"].get<double>(), 3) << " s, frames "
+              << out["start_frame"].get<std::size_t>() << ".." << out["end_frame"].get<std::size_t>() << " of "
+              << out["frames"].get<std::size_t>() << "\n";
+    if (o.method == "variable") {
+        std::cout << "classes: " << out["classes"]["a"].get<std::string>() << " -> "
+                  << out["classes"]["b"].get<std::string>() << "; parameter "
+                  << out["parameter"].get<std::string>() << "; root path " << out["root_path"].get<std::string>()
+                  << "\nT = max t_i over the key joints = " << format_fixed(out["unclamped_duration"].get<double>(), 3)
+                  << " s (" << out["limiting_joint"].get<std::string>() << "), clamped to ["
+                  << format_number(o.min_duration) << ", " << format_number(o.max_duration) << "] s\n";
+        std::cout << "  joint            angle(rad)  speed A  speed B   t_i(s)  method\n";
+        for (const auto& j : out["joints"]) {
+            if (!j["key"].get<bool>()) continue;
+            std::string name = j["name"].get<std::string>();
+            name.resize(std::max<std::size_t>(name.size(), 16), ' ');
+            std::cout << "  " << name << ' ' << format_fixed(j["angle"].get<double>(), 3) << "       "
+                      << format_fixed(j["speed_a"].get<double>(), 2) << "     " << format_fixed(j["speed_b"].get<double>(), 2)
+                      << "    " << format_fixed(j["t"].get<double>(), 3) << "   " << j["method"].get<std::string>()
+                      << '\n';
+        }
+    }
+    std::cout << "foot skate in the window: " << format_fixed(out["foot_skate"]["ratio"].get<double>(), 2) << "x the clips' own";
+    if (!o.no_plant_feet) std::cout << " (" << format_fixed(out["foot_skate_unplanted"]["ratio"].get<double>(), 2) << "x before planting)";
+    std::cout << '\n';
+    if (!o.output.empty()) std::cout << "wrote " << o.output << " (skeleton and offsets of " << file_name(o.a) << ")\n";
+    if (!o.feet_plot.empty()) std::cout << "wrote " << o.feet_plot << ": feet through the window, before and after planting\n";
+    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
+}
+
 void run_transition(const transition_options& o) {
-    check_outputs({{"--output", &o.output}, {"--view", &o.view}});
+    check_outputs({{"--output", &o.output}, {"--view", &o.view}, {"--feet-plot", &o.feet_plot}});
     const clip_t a = load_clip(o.a);
     const clip_t b = load_clip(o.b);
     check_frame(o.at, a, o.a, "--at");
@@ -82,6 +228,7 @@ void run_transition(const transition_options& o) {
     const auto up = anima::guess_up_axis(a.skeleton()).up;
     const double mpu = anima::guess_units(a.skeleton(), up).metres_per_unit;
     const auto as_joined = anima::measure_transition(joined, roles, up, mpu);
+    const auto unplanted = joined;
     if (!o.no_plant_feet) joined = anima::plant_transition_feet(joined);
     const auto as_written = o.no_plant_feet ? as_joined : anima::measure_transition(joined, roles, up, mpu);
     const auto skate = [](const anima::transition_quality<double>& q) {
@@ -90,6 +237,13 @@ void run_transition(const transition_options& o) {
     out["feet_planted"] = !o.no_plant_feet;
     out["foot_skate"] = skate(as_written);
     if (!o.no_plant_feet) out["foot_skate_unplanted"] = skate(as_joined);
+    if (!o.feet_plot.empty()) {
+        write_feet_plot(o.feet_plot,
+                        "Feet through the " + o.method + " transition " + file_name(o.a) + " frame " + std::to_string(o.at) +
+                            " -> " + file_name(o.b) + " frame " + std::to_string(o.to),
+                        unplanted, o.no_plant_feet ? nullptr : &joined, as_joined.foot_skate_ratio, as_written.foot_skate_ratio);
+        out["feet_plot"] = o.feet_plot;
+    }
     out["start_frame"] = joined.start_frame;
     out["end_frame"] = joined.end_frame;
     out["frames"] = joined.motion.frames();
@@ -119,32 +273,7 @@ void run_transition(const transition_options& o) {
         print_json(out);
         return;
     }
-    std::cout << o.method << " transition " << file_name(o.a) << " frame " << o.at << " -> " << file_name(o.b)
-              << " frame " << o.to << ": " << format_fixed(out["duration"].get<double>(), 3) << " s, frames "
-              << joined.start_frame << ".." << joined.end_frame << " of " << joined.motion.frames() << "\n";
-    if (o.method == "variable") {
-        std::cout << "classes: " << out["classes"]["a"].get<std::string>() << " -> "
-                  << out["classes"]["b"].get<std::string>() << "; parameter "
-                  << out["parameter"].get<std::string>() << "; root path " << out["root_path"].get<std::string>()
-                  << "\nT = max t_i over the key joints = " << format_fixed(out["unclamped_duration"].get<double>(), 3)
-                  << " s (" << out["limiting_joint"].get<std::string>() << "), clamped to ["
-                  << format_number(o.min_duration) << ", " << format_number(o.max_duration) << "] s\n";
-        std::cout << "  joint            angle(rad)  speed A  speed B   t_i(s)  method\n";
-        for (const auto& j : out["joints"]) {
-            if (!j["key"].get<bool>()) continue;
-            std::string name = j["name"].get<std::string>();
-            name.resize(std::max<std::size_t>(name.size(), 16), ' ');
-            std::cout << "  " << name << ' ' << format_fixed(j["angle"].get<double>(), 3) << "       "
-                      << format_fixed(j["speed_a"].get<double>(), 2) << "     " << format_fixed(j["speed_b"].get<double>(), 2)
-                      << "    " << format_fixed(j["t"].get<double>(), 3) << "   " << j["method"].get<std::string>()
-                      << '\n';
-        }
-    }
-    std::cout << "foot skate in the window: " << format_fixed(as_written.foot_skate_ratio, 2) << "x the clips' own";
-    if (!o.no_plant_feet) std::cout << " (" << format_fixed(as_joined.foot_skate_ratio, 2) << "x before planting)";
-    std::cout << '\n';
-    if (!o.output.empty()) std::cout << "wrote " << o.output << " (skeleton and offsets of " << file_name(o.a) << ")\n";
-    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
+    print_transition(o, out, page_written);
 }
 
 }  // namespace
@@ -167,6 +296,9 @@ void register_transition(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("-o,--output", opts->output, "Write the joined clip to this BVH file")->type_name("OUT.bvh");
     add_view_option(*sub, opts->view, "A, B and the joined clip, the transition marked");
+    sub->add_option("--feet-plot", opts->feet_plot,
+                    "Plot each foot's height and skate through the window, before and after planting (SVG)")
+        ->type_name("OUT.svg");
     sub->add_option("--method", opts->method,
                     "variable (the paper's method), cut, crossfade or inertialize")
         ->check(CLI::IsMember({"variable", "cut", "crossfade", "inertialize"}))
