@@ -18,4 +18,5 @@
 #include <anima/motion/resequence.hpp>
 #include <anima/motion/rest_pose.hpp>
 #include <anima/motion/skeleton.hpp>
+#include <anima/motion/speed_limits.hpp>
 #include <anima/motion/velocities.hpp>

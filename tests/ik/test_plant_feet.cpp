@@ -7,13 +7,17 @@
 #include <anima/bvh/reader.hpp>
 #include <anima/ik/plant_feet.hpp>
 #include <anima/motion/contacts.hpp>
+#include <anima/motion/speed_limits.hpp>
+#include <anima/rotation/quaternion.hpp>
 
 #include <doctest/doctest.h>
 
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -149,6 +153,45 @@ TEST_CASE_TEMPLATE("plant_feet within ranges leaves the frames of other runs as 
     CHECK(moved);
 }
 
+TEST_CASE_TEMPLATE("plant_feet keeps the legs within the joint speed limits", T, float, double) {
+    // A sway of 2 units (0.07 body heights) at 1.3 Hz: unlimited, the legs
+    // catching and releasing the feet turn faster than the walk ever does.
+    const auto swayed = swayed_walk<T>(T(2));
+    const auto own = anima::clip_speed_limits(swayed).joint;
+    const auto fastest = [](const anima::clip<T>& c, std::size_t j) {
+        T out = 0;
+        for (std::size_t f = 1; f < c.frames(); ++f)
+            out = std::max(out, anima::angle_between(c.rotation(f - 1, j), c.rotation(f, j)) * c.frame_rate());
+        return out;
+    };
+    anima::plant_feet_params<T> free;
+    free.joint_speed_limits.assign(swayed.joints(), std::numeric_limits<T>::infinity());
+    const auto unlimited = anima::plant_feet(swayed, free).planted;
+    const auto limited = anima::plant_feet(swayed, anima::plant_feet_params<T>{}).planted;
+    anima::plant_feet_params<T> half;
+    half.joint_speed_limits = own;
+    for (T& l : half.joint_speed_limits) l /= T(2);
+    const auto slow = anima::plant_feet(swayed, half).planted;
+    std::size_t over = 0, changed = 0;
+    for (std::size_t j = 0; j < swayed.joints(); ++j) {
+        bool moved = false;
+        for (std::size_t f = 0; f < swayed.frames() && !moved; ++f)
+            moved = limited.rotation(f, j).coeffs() != swayed.rotation(f, j).coeffs();
+        if (!moved) continue;
+        ++changed;
+        CAPTURE(swayed.skeleton()[j].name);
+        if (fastest(unlimited, j) > own[j] * T(1.01)) ++over;
+        CHECK(fastest(limited, j) <= own[j] * T(1.0001));
+        CHECK(fastest(slow, j) <= half.joint_speed_limits[j] * T(1.0001));
+    }
+    CHECK(changed >= 4);  // hips, knees, ankles of both legs
+    CHECK(over >= 1);     // the limit had something to do
+    MESSAGE("swayed walk skate " << skate_median(swayed) << ", planted " << skate_median(unlimited)
+                                 << " unlimited, " << skate_median(limited) << " within the walk's speeds");
+    // Limited, the feet still slide less than swayed.
+    CHECK(skate_median(limited) < T(0.6) * skate_median(swayed));
+}
+
 TEST_CASE_TEMPLATE("plant_feet: short clips and bad input", T, float, double) {
     const auto walk = anima::read_bvh<T>(anima_test::bundled("walk_cmu31_02_01.bvh"));
     SUBCASE("a one-frame clip comes back as it was") {
@@ -191,6 +234,16 @@ TEST_CASE_TEMPLATE("plant_feet: short clips and bad input", T, float, double) {
         p.release_seconds = T(-1);
         const auto message = anima_test::invalid_argument_message([&] { (void)anima::plant_feet(walk, p); });
         CHECK(anima_test::contains(message, "release_seconds"));
+    }
+    SUBCASE("joint speed limits of the wrong size or below 0") {
+        anima::plant_feet_params<T> p;
+        p.joint_speed_limits.assign(walk.joints() - 1, T(1));
+        CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)anima::plant_feet(walk, p); }),
+                                   "joint_speed_limits has 30 entries, the clip 31 joints"));
+        p.joint_speed_limits.assign(walk.joints(), T(1));
+        p.joint_speed_limits[3] = T(-1);
+        CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)anima::plant_feet(walk, p); }),
+                                   "a joint speed limit must be"));
     }
     SUBCASE("a slide fraction of 0") {
         anima::plant_feet_params<T> p;

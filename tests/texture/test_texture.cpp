@@ -221,6 +221,13 @@ TEST_CASE_TEMPLATE("texture: planting holds feet across seams of the bundled run
     MESSAGE("run texture skate / input: " << skate(loose.motion) / skate(c) << " loose, "
                                           << skate(planted.motion) / skate(c) << " planted");
     CHECK(skate(planted.motion) < T(0.8) * skate(loose.motion));
+    // The legs catching the feet stay within the run's joint speeds, as the
+    // seams do (unlimited, rThigh reached 1.15 times its fastest).
+    const auto limits = anima::clip_speed_limits(c);
+    for (const auto& s : anima::seam_speeds(planted.motion, planted.overlap_spans, limits)) {
+        CAPTURE(s.first);
+        CHECK(s.joint_ratio <= T(1.001));
+    }
     // The frames are the same stream: planting moves legs, never the root.
     for (std::size_t f = 0; f < frames; ++f) REQUIRE(planted.motion.root_position(f) == loose.motion.root_position(f));
 }

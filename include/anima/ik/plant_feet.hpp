@@ -20,6 +20,9 @@
 #include <anima/motion/clip.hpp>
 #include <anima/motion/contacts.hpp>
 #include <anima/motion/forward_kinematics.hpp>
+#include <anima/motion/speed_limits.hpp>
+#include <anima/rotation/quaternion.hpp>
+#include <anima/rotation/slerp.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -64,6 +67,13 @@ struct plant_feet_params {
     /// the plant ends there and starts again where the foot slows down.
     /// Holding it would drag the step back by max_correction.
     T slide_fraction = T(0.4);
+    /// The fastest each joint may turn, rad/s, one entry per joint of the
+    /// clip; empty: the clip's own fastest (clip_speed_limits). Where a leg
+    /// solved for a held foot would turn faster (the body blended away over a
+    /// planted foot at a seam), it follows at this speed instead, and the
+    /// foot gives a little. 0 holds a joint where the recording has it;
+    /// infinity leaves it free.
+    std::vector<T> joint_speed_limits;
     /// Weight of the foot's recorded world orientation against its position
     /// (a length, in body heights): the foot keeps its roll.
     T orientation_weight = T(0.05);
@@ -183,6 +193,33 @@ T fade_out(T s) {
     return T(1) - s * s * (T(3) - T(2) * s);
 }
 
+/// Joints whose rotations planting changed turn no faster than `limits`
+/// (rad/s): each frame's rotation moves from the previous frame's toward the
+/// solved one by at most the limit's angle.
+template <class T>
+void limit_joint_speeds(clip<T>& planted, const clip<T>& recorded, const std::vector<T>& limits) {
+    for (std::size_t j = 0; j < planted.joints(); ++j) {
+        bool changed = false;
+        for (std::size_t f = 0; f < planted.frames() && !changed; ++f)
+            changed = planted.rotation(f, j).coeffs() != recorded.rotation(f, j).coeffs();
+        // A step at the limit itself is the recording's fastest: rounding in
+        // limit * frame_time must not change it.
+        const T step = limits[j] * planted.frame_time() * (T(1) + T(16) * std::numeric_limits<T>::epsilon());
+        if (!changed || !(step < std::numeric_limits<T>::infinity())) continue;
+        auto previous = planted.rotation(0, j);
+        for (std::size_t f = 1; f < planted.frames(); ++f) {
+            const auto target = planted.rotation(f, j);
+            const T angle = angle_between(previous, target);
+            if (angle > step) {
+                previous = slerp(previous, target, step / angle);
+                planted.set_rotation(f, j, previous);
+            } else {
+                previous = target;
+            }
+        }
+    }
+}
+
 }  // namespace detail
 
 /// The clip with feet in contact planted, using the given contacts (found on
@@ -201,6 +238,14 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
     check_positive(who, "slide_fraction", params.slide_fraction);
     const auto& sk = c.skeleton();
     const std::size_t frames = c.frames();
+    if (!params.joint_speed_limits.empty()) {
+        if (params.joint_speed_limits.size() != c.joints())
+            throw invalid_argument(std::string(who) + ": joint_speed_limits has " +
+                                   std::to_string(params.joint_speed_limits.size()) + " entries, the clip " +
+                                   std::to_string(c.joints()) + " joints");
+        for (const T limit : params.joint_speed_limits)
+            check_argument(limit >= T(0), who, "a joint speed limit", "at least 0 (infinity: free)", limit);
+    }
     for (const auto& foot : contacts.feet) {
         if (foot.in_contact.size() != frames)
             throw invalid_argument(std::string(who) + ": the contacts of foot '" + foot.name + "' cover " +
@@ -300,6 +345,8 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
                 const ik_params<T>& p) { return solve_ik(t, gs, start, rule, p); },
         params.ik);
     out.planted = std::move(solved.edited);
+    detail::limit_joint_speeds(out.planted, c,
+                               params.joint_speed_limits.empty() ? clip_speed_limits(c).joint : params.joint_speed_limits);
     out.frames = solved.frames.size();
     out.largest_error = solved.largest_error;
     return out;

@@ -38,6 +38,7 @@
 #include <anima/motion/dof_view.hpp>
 #include <anima/motion/figure.hpp>
 #include <anima/motion/resequence.hpp>
+#include <anima/motion/speed_limits.hpp>
 #include <anima/texture/motion_smoothing.hpp>
 #include <anima/symmetry/symmetric_playback.hpp>
 #include <anima/symmetry/symmetry_scores.hpp>
@@ -361,6 +362,12 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
     // Feet planted across the seams and turns.
     if (params.planting.enabled && has_feet_to_plant(out.motion, params.planting.feet)) {
         plant_feet_params<T> pp = params.planting.feet;
+        // The legs stay within the speeds of the clip the texture is made
+        // of, as the seams do.
+        if (pp.joint_speed_limits.empty())
+            pp.joint_speed_limits = texton.source_speeds.joint.size() == texton.motion.joints()
+                                        ? texton.source_speeds.joint
+                                        : clip_speed_limits(texton.motion).joint;
         pp.ranges.clear();
         for (const auto& [first, last] : out.overlap_spans) pp.ranges.push_back({first, last});
         for (const std::size_t f : out.turns) pp.ranges.push_back({f, f});

@@ -42,6 +42,7 @@
 #include <anima/rotation/swing_twist.hpp>
 #include <anima/motion/frame_distance.hpp>
 #include <anima/motion/frame_features.hpp>
+#include <anima/motion/speed_limits.hpp>
 #include <anima/texture/overlap_search.hpp>
 #include <anima/texture/seam_blend.hpp>
 #include <anima/texture/seam_cost.hpp>
@@ -135,6 +136,9 @@ struct motion_texton {
     /// translation the difference. Zero outside the fades and everywhere
     /// without them.
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> fade_correction;
+    /// How fast the clip the texton was cut from moves at most: the legs of
+    /// planted feet are kept within it (empty: the texton's own).
+    speed_limits<T> source_speeds;
     texture_timings timings;
 
     std::size_t rows() const noexcept { return row_joint.size(); }
@@ -471,6 +475,7 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
     const int up_k = static_cast<int>(up.axis);
     detail::assemble_texton(out, c, cb, alpha, a_first, b_first, up_k);
     detail::fade_corrections(out, c, turned ? &*turned : nullptr, alpha, a_first, b_first, up_k);
+    out.source_speeds = clip_speed_limits(c);
     out.timings.blend = clock.lap();
     out.timings.total = out.timings.features + out.timings.search + out.timings.cut + out.timings.blend;
     return out;
