@@ -106,7 +106,8 @@ frame_targets read_targets(const std::string& path, const clip_t& c) {
             throw failure(where + "frame " + std::to_string(frame) + " is outside the clip (0.." +
                           std::to_string(c.frames() - 1) + ")");
         if (!c.skeleton().find(fields[1]))
-            throw failure(where + "no joint named '" + anima::detail::escape_for_message(fields[1], 200) + "' in the clip");
+            throw failure(where + "no joint named '" + anima::detail::escape_for_message(fields[1], 200) + "' in the clip" +
+                          c.skeleton().did_you_mean(fields[1]));
         targets[frame].emplace_back(fields[1], p);
     }
     if (targets.empty()) throw failure("'" + path + "' holds no targets");
@@ -276,7 +277,8 @@ void run_ik(const ik_options& o) {
             if (!seen) wanted.push_back(w);
         }
     for (const auto& w : wanted)
-        if (!sk.find(w.first)) throw failure("no joint named '" + w.first + "' in '" + o.input + "'");
+        if (!sk.find(w.first))
+            throw failure("no joint named '" + w.first + "' in '" + o.input + "'" + sk.did_you_mean(w.first));
 
     if (learned) train_model(o, s, wanted);
 

@@ -164,9 +164,11 @@ TEST_CASE_TEMPLATE("plant_feet keeps the legs within the joint speed limits", T,
             out = std::max(out, anima::angle_between(c.rotation(f - 1, j), c.rotation(f, j)) * c.frame_rate());
         return out;
     };
+    // Unlimited, for comparison (not under the sanitizers: a third of the
+    // test's time, and no path the limited runs do not take).
     anima::plant_feet_params<T> free;
     free.joint_speed_limits.assign(swayed.joints(), std::numeric_limits<T>::infinity());
-    const auto unlimited = anima::plant_feet(swayed, free).planted;
+    const auto unlimited = anima_test::sanitized_build ? swayed : anima::plant_feet(swayed, free).planted;
     const auto limited = anima::plant_feet(swayed, anima::plant_feet_params<T>{}).planted;
     anima::plant_feet_params<T> half;
     half.joint_speed_limits = own;
@@ -185,9 +187,10 @@ TEST_CASE_TEMPLATE("plant_feet keeps the legs within the joint speed limits", T,
         CHECK(fastest(slow, j) <= half.joint_speed_limits[j] * T(1.0001));
     }
     CHECK(changed >= 4);  // hips, knees, ankles of both legs
-    CHECK(over >= 1);     // the limit had something to do
-    MESSAGE("swayed walk skate " << skate_median(swayed) << ", planted " << skate_median(unlimited)
-                                 << " unlimited, " << skate_median(limited) << " within the walk's speeds");
+    if (!anima_test::sanitized_build) CHECK(over >= 1);  // the limit had something to do
+    if (!anima_test::sanitized_build)
+        MESSAGE("swayed walk skate " << skate_median(swayed) << ", planted " << skate_median(unlimited)
+                                     << " unlimited, " << skate_median(limited) << " within the walk's speeds");
     // Limited, the feet still slide less than swayed.
     CHECK(skate_median(limited) < T(0.6) * skate_median(swayed));
 }

@@ -186,6 +186,12 @@ TEST_CASE("skeleton::add_joint appends joints and validates its arguments") {
     CHECK_FALSE(sk.find("nope").has_value());
     CHECK(sk.index_of("a") == 1);
     CHECK_THROWS_AS(sk.index_of("nope"), anima::invalid_argument);
+    // Names match exactly; a name that differs only in case is suggested.
+    CHECK_FALSE(sk.find("ROOT").has_value());
+    CHECK(contains(invalid_argument_message([&] { (void)sk.index_of("ROOT"); }),
+                   "no joint named 'ROOT' (did you mean 'root'?)"));
+    CHECK(sk.did_you_mean("nope").empty());
+    CHECK(sk.did_you_mean("Second Root") == " (did you mean 'second root'?)");
 
     SUBCASE("unknown parent") {
         const std::string m = invalid_argument_message([&] { sk.add_joint("c", 4, v3d::Zero()); });

@@ -220,6 +220,34 @@ void limit_joint_speeds(clip<T>& planted, const clip<T>& recorded, const std::ve
     }
 }
 
+/// plant_feet's argument checks: settings in range, contacts of this clip.
+template <class T>
+void check_plant_feet(const clip<T>& c, const contact_set<T>& contacts, const plant_feet_params<T>& params) {
+    const char* who = "anima::plant_feet";
+    check_non_negative(who, "release_seconds", params.release_seconds);
+    check_non_negative(who, "orientation_weight", params.orientation_weight);
+    check_non_negative(who, "max_correction", params.max_correction);
+    check_non_negative(who, "catch_seconds", params.catch_seconds);
+    check_positive(who, "slide_fraction", params.slide_fraction);
+    if (!params.joint_speed_limits.empty()) {
+        if (params.joint_speed_limits.size() != c.joints())
+            throw invalid_argument(std::string(who) + ": joint_speed_limits has " +
+                                   std::to_string(params.joint_speed_limits.size()) + " entries, the clip " +
+                                   std::to_string(c.joints()) + " joints");
+        for (const T limit : params.joint_speed_limits)
+            check_argument(limit >= T(0), who, "a joint speed limit", "at least 0 (infinity: free)", limit);
+    }
+    for (const auto& foot : contacts.feet) {
+        if (foot.in_contact.size() != c.frames())
+            throw invalid_argument(std::string(who) + ": the contacts of foot '" + foot.name + "' cover " +
+                                   std::to_string(foot.in_contact.size()) + " frames, the clip has " +
+                                   std::to_string(c.frames()));
+        if (foot.joint >= c.joints())
+            throw invalid_argument(std::string(who) + ": foot '" + foot.name + "' is joint " +
+                                   std::to_string(foot.joint) + ", the skeleton has " + std::to_string(c.joints()));
+    }
+}
+
 }  // namespace detail
 
 /// The clip with feet in contact planted, using the given contacts (found on
@@ -230,31 +258,9 @@ void limit_joint_speeds(clip<T>& planted, const clip<T>& recorded, const std::ve
 template <class T>
 plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts, const plant_feet_params<T>& params) {
     using vector3 = Eigen::Matrix<T, 3, 1>;
-    const char* who = "anima::plant_feet";
-    check_non_negative(who, "release_seconds", params.release_seconds);
-    check_non_negative(who, "orientation_weight", params.orientation_weight);
-    check_non_negative(who, "max_correction", params.max_correction);
-    check_non_negative(who, "catch_seconds", params.catch_seconds);
-    check_positive(who, "slide_fraction", params.slide_fraction);
+    detail::check_plant_feet(c, contacts, params);
     const auto& sk = c.skeleton();
     const std::size_t frames = c.frames();
-    if (!params.joint_speed_limits.empty()) {
-        if (params.joint_speed_limits.size() != c.joints())
-            throw invalid_argument(std::string(who) + ": joint_speed_limits has " +
-                                   std::to_string(params.joint_speed_limits.size()) + " entries, the clip " +
-                                   std::to_string(c.joints()) + " joints");
-        for (const T limit : params.joint_speed_limits)
-            check_argument(limit >= T(0), who, "a joint speed limit", "at least 0 (infinity: free)", limit);
-    }
-    for (const auto& foot : contacts.feet) {
-        if (foot.in_contact.size() != frames)
-            throw invalid_argument(std::string(who) + ": the contacts of foot '" + foot.name + "' cover " +
-                                   std::to_string(foot.in_contact.size()) + " frames, the clip has " +
-                                   std::to_string(frames));
-        if (foot.joint >= sk.size())
-            throw invalid_argument(std::string(who) + ": foot '" + foot.name + "' is joint " +
-                                   std::to_string(foot.joint) + ", the skeleton has " + std::to_string(sk.size()));
-    }
     plant_feet_result<T> out{c, contacts, 0, 0, T(0), T(0)};
     if (frames < 2 || contacts.feet.empty()) return out;
 

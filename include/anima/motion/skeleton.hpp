@@ -3,6 +3,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/text.hpp>
 #include <anima/rotation/euler.hpp>
 
 #include <Eigen/Core>
@@ -160,7 +161,15 @@ public:
     /// Index of the joint called name; throws anima::invalid_argument when absent.
     std::size_t index_of(std::string_view name) const {
         if (auto i = find(name)) return *i;
-        throw invalid_argument("anima::skeleton: no joint named '" + std::string(name) + "'");
+        throw invalid_argument("anima::skeleton: no joint named '" + std::string(name) + "'" + did_you_mean(name));
+    }
+    /// For a message about a name that is not found: " (did you mean 'X'?)"
+    /// when joint X differs from it only in case (names are matched
+    /// exactly: CMU's rHand and a user's RHand), "" otherwise.
+    std::string did_you_mean(std::string_view name) const {
+        for (const auto& j : joints_)
+            if (ascii_equal_ignoring_case(j.name, name)) return " (did you mean '" + j.name + "'?)";
+        return "";
     }
 
     std::vector<std::size_t> children(std::size_t i) const {
