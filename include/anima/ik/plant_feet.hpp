@@ -71,8 +71,8 @@ struct plant_feet_params {
     /// clip; empty: the clip's own fastest (clip_speed_limits). Where a leg
     /// solved for a held foot would turn faster (the body blended away over a
     /// planted foot at a seam), it follows at this speed instead, and the
-    /// foot gives a little. 0 holds a joint where the recording has it;
-    /// infinity leaves it free.
+    /// foot gives a little. Only joints that planting changed are limited:
+    /// 0 keeps such a joint still, infinity leaves it free.
     std::vector<T> joint_speed_limits;
     /// Weight of the foot's recorded world orientation against its position
     /// (a length, in body heights): the foot keeps its roll.
@@ -90,7 +90,7 @@ struct plant_feet_result {
     contact_set<T> contacts;    ///< the contacts used
     std::size_t runs = 0;       ///< contact runs planted
     std::size_t frames = 0;     ///< frames solved (runs and releases)
-    T largest_error = T(0);     ///< largest foot position error left by the IK, file units
+    T largest_error = T(0);     ///< largest foot position error left by the IK (before the speed limits), file units
     T largest_correction = T(0);  ///< largest horizontal correction asked of a foot, file units
 };
 
