@@ -42,12 +42,17 @@ struct feet_panel {
     std::string label;
 };
 
+/// The plot's frames [first, last] across `width` pixels from `left`.
+struct frame_axis {
+    std::size_t first, last;
+    double left, width;
+    double x(double frame) const {
+        return left + width * (frame - static_cast<double>(first)) / static_cast<double>(std::max<std::size_t>(last - first, 1));
+    }
+};
+
 void draw_feet_series(svg_document& svg, const feet_panel& panel, const std::vector<double>& values,
-                      const std::vector<bool>& shown, std::size_t first, std::size_t last, double left, double width,
-                      const char* colour, bool dashed) {
-    const auto x_of = [&](std::size_t f) {
-        return left + width * static_cast<double>(f - first) / static_cast<double>(std::max<std::size_t>(last - first, 1));
-    };
+                      const std::vector<bool>& shown, const frame_axis& axis, const char* colour, bool dashed) {
     const auto y_of = [&](double v) { return panel.top + panel.height * (1 - std::clamp(v / panel.peak, 0.0, 1.0)); };
     std::string points;
     const auto flush = [&] {
@@ -56,12 +61,12 @@ void draw_feet_series(svg_document& svg, const feet_panel& panel, const std::vec
                     (dashed ? "1.2\" stroke-dasharray=\"5,3\" opacity=\"0.8" : "1.8") + "\" points=\"" + points + "\"/>");
         points.clear();
     };
-    for (std::size_t f = first; f <= last; ++f) {
+    for (std::size_t f = axis.first; f <= axis.last; ++f) {
         if (!shown[f]) {
             flush();
             continue;
         }
-        points += svg_number(x_of(f)) + "," + svg_number(y_of(values[f])) + " ";
+        points += svg_number(axis.x(static_cast<double>(f))) + "," + svg_number(y_of(values[f])) + " ";
     }
     flush();
 }
@@ -102,13 +107,11 @@ void write_feet_plot(const std::string& path, const std::string& title, const an
     if (planted) sub = "foot skate in the window: " + format_fixed(ratio_before, 2) + "x the clips' own as the method left it, " +
                        format_fixed(ratio_after, 2) + "x planted";
     svg.text(w / 2, 42, sub, 12, "#444", "middle");
-    const auto x_of = [&](std::size_t f) {
-        return left + plot_w * static_cast<double>(f - first) / static_cast<double>(std::max<std::size_t>(last - first, 1));
-    };
+    const frame_axis axis{first, last, left, plot_w};
+    const double window_x = axis.x(static_cast<double>(std::max(before.start_frame, first)));
+    const double window_w = std::max(1.0, axis.x(static_cast<double>(std::min(before.end_frame, last))) - window_x);
     for (const auto* panel : {&rise, &speed}) {
-        svg.rect(x_of(std::max(before.start_frame, first)), panel->top,
-                 std::max(1.0, x_of(std::min(before.end_frame, last)) - x_of(std::max(before.start_frame, first))),
-                 panel->height, "#fdebd0");
+        svg.rect(window_x, panel->top, window_w, panel->height, "#fdebd0");
         for (const double v : nice_ticks(0, panel->peak, 4)) {
             const double y = panel->top + panel->height * (1 - v / panel->peak);
             svg.line(left, y, w - right, y, "#e4e4e4", 1);
@@ -119,7 +122,7 @@ void write_feet_plot(const std::string& path, const std::string& title, const an
         svg.text(left, panel->top - 8, panel->label, 12, "#222", "start");
     }
     for (const double t : nice_ticks(static_cast<double>(first) * dt, static_cast<double>(last) * dt, 8)) {
-        const double x = left + plot_w * (t / dt - static_cast<double>(first)) / static_cast<double>(std::max<std::size_t>(last - first, 1));
+        const double x = axis.x(t / dt);
         if (x < left - 0.5 || x > w - right + 0.5) continue;
         svg.line(x, axis_y, x, axis_y + 4, "#444", 1);
         svg.text(x, axis_y + 17, format_number(t, 3), 11, "#444", "middle");
@@ -132,8 +135,8 @@ void write_feet_plot(const std::string& path, const std::string& title, const an
         for (const bool dashed : {true, false}) {
             const auto& s = dashed || !planted ? cb : ca;
             if (dashed && !planted) continue;
-            draw_feet_series(svg, rise, s.feet[i].rise, every, first, last, left, plot_w, colour, dashed);
-            draw_feet_series(svg, speed, s.feet[i].speed, s.feet[i].in_contact, first, last, left, plot_w, colour, dashed);
+            draw_feet_series(svg, rise, s.feet[i].rise, every, axis, colour, dashed);
+            draw_feet_series(svg, speed, s.feet[i].speed, s.feet[i].in_contact, axis, colour, dashed);
         }
         svg.rect(legend_x, h - 22, 14, 4, colour);
         svg.text(legend_x + 20, h - 16, cb.feet[i].name, 12, colour, "start");
