@@ -60,7 +60,7 @@ TEST_CASE("from distorted key times, model (2) returns to the recorded timing of
     anima::flight_optimization_params<double> params;
     // Under the sanitizers a few iterations show the path runs clean; the
     // return to the recording needs the full run.
-    params.solver.max_iterations = anima_test::sanitized_build ? 6 : 100;
+    params.solver.max_iterations = anima_test::sanitized_build ? 3 : 100;
     const auto r = anima::optimize_flight(problem, params);
     double before = 0, after = 0;
     for (std::size_t i = 0; i < distorted.size(); ++i) {

@@ -170,6 +170,8 @@ TEST_CASE_TEMPLATE("texture: exactly N frames of unit quaternions and finite val
 
 template <class T>
 void check_seams_smooth(const anima::clip<T>& c, const anima::motion_texture_params<T>& p, std::size_t frames, T tolerance) {
+    // A third under the sanitizers: still several seams of every kind.
+    if (anima_test::sanitized_build) frames = std::min<std::size_t>(frames, 600);
     const auto t = anima::make_motion_texture(c, frames, p);
     check_well_formed(t.motion, frames);
     REQUIRE(t.overlap_spans.size() >= 2);
@@ -210,14 +212,15 @@ TEST_CASE_TEMPLATE("texture: planting holds feet across seams of the bundled run
     anima::contact_params<T> cp;
     cp.use_speed = false;  // sliding feet count as planted
     const auto skate = [&](const anima::clip<T>& m) { return anima::foot_skate(anima::find_contacts(m, cp)).median; };
-    // 1700 frames; 500 under the sanitizers (every path, a third of the IK).
-    const std::size_t frames = anima_test::sanitized_build ? 500 : 1700;
+    // 1700 frames; 500 in float, whose IK runs unoptimised in this unit; 300
+    // under the sanitizers (every path, a sixth of the IK).
+    const std::size_t frames = anima_test::sanitized_build ? 300 : std::is_same_v<T, float> ? 500 : 1700;
     const auto loose = anima::make_motion_texture(c, frames, p);
     CHECK(loose.planted_runs == 0);
     p.planting.enabled = true;
     const auto planted = anima::make_motion_texture(c, frames, p);
     check_well_formed(planted.motion, frames);
-    CHECK(planted.planted_runs > (anima_test::sanitized_build ? 2u : 10u));
+    CHECK(planted.planted_runs > (frames < 1700 ? 2u : 10u));
     MESSAGE("run texture skate / input: " << skate(loose.motion) / skate(c) << " loose, "
                                           << skate(planted.motion) / skate(c) << " planted");
     CHECK(skate(planted.motion) < T(0.8) * skate(loose.motion));
