@@ -27,7 +27,7 @@ struct playback_options {
     std::size_t frames = 0, start = 0;
     std::uint64_t seed = 1;
     double gain = 1.25, penalty = 0.2;
-    bool fixed = false, video_texture = false, json = false, plant_feet = false;
+    bool fixed = false, video_texture = false, json = false, plant_feet = true;
     CLI::Option* start_opt = nullptr;
 };
 
@@ -40,17 +40,19 @@ std::string some_positions(const std::vector<std::size_t>& positions, std::size_
     return out;
 }
 
-/// The stream rendered (resequence), and with --plant-feet the feet on the
-/// ground through a turn or jump held in place; planted_runs into `out`.
+/// The stream rendered (resequence), and unless --no-plant-feet the feet on
+/// the ground through a turn or jump held in place; planted_runs into `out`.
 clip_t played_clip(const playback_options& o, const motion_range& m, const std::vector<std::size_t>& stream,
                    const std::vector<std::size_t>& events, json& out) {
     anima::resequence_params rp;
     rp.root = anima::parse_root_path(o.root);
     rp.up = m.up;
     clip_t result = anima::resequence(m.clip, stream, rp);
-    // With --plant-feet, feet on the ground through a turn or jump stay planted.
+    // Feet on the ground through a turn or jump stay planted (unless
+    // --no-plant-feet), the legs within the clip's own joint speeds.
     anima::plant_feet_params<double> pp;
     pp.contacts.up = m.up;
+    pp.joint_speed_limits = anima::clip_speed_limits(m.clip).joint;
     for (const std::size_t f : events) pp.ranges.push_back({f, f + 1});
     if (o.plant_feet && !pp.ranges.empty() && anima::has_feet_to_plant(result, pp)) {
         auto planted = anima::plant_feet(result, pp);
@@ -189,7 +191,10 @@ void run_playback(const playback_options& o) {
               << format_fixed(100 * cov.visited, 1) << "%), evenness " << format_fixed(cov.evenness, 3) << "\n";
     if (!o.output.empty())
         std::cout << "wrote " << o.output << ": " << o.frames << " frames, root path " << o.root << ", "
-                  << write.decimals << " decimals\n";
+                  << write.decimals << " decimals, "
+                  << (o.plant_feet ? "feet planted in " + std::to_string(out.value("planted_runs", 0)) + " contact runs"
+                                   : "feet not planted")
+                  << "\n";
     if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
 }
 
@@ -238,8 +243,9 @@ void register_playback(CLI::App& app) {
                                 "Jump between similar frames (video textures, L2 distance) instead of turning");
     for (CLI::Option* option : symmetric) video->excludes(option);
     add_frame_range_options(*sub, opts->range);
-    sub->add_flag("--plant-feet", opts->plant_feet,
-                  "Hold feet that are on the ground through a turn or jump in place (IK on the legs)");
+    sub->add_flag("--plant-feet,!--no-plant-feet", opts->plant_feet,
+                  "Hold feet that are on the ground through a turn or jump in place, IK on the legs (the "
+                  "default; --no-plant-feet leaves them as the turns left them)");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_playback(*opts); });
 }

@@ -35,7 +35,7 @@ struct texture_options {
     std::string root = "accumulated", up;
     double neighbour_weight = 0.5, mix_probability = 0.5;
     bool json = false, hard_cut = false, symmetric = false, keep_heading = false, progress = false;
-    bool plant_feet = false;
+    bool plant_feet = true;
     CLI::Option *m_opt = nullptr, *overlap_opt = nullptr, *first_opt = nullptr, *up_opt = nullptr;
 };
 
@@ -481,9 +481,9 @@ void run_texture(const texture_options& o) {
                   << format_number(t.smoothing.relative_residual, 3) << " above its tolerance\n";
 
     const double dt = c.frame_time();
+    const skate_check skate = check_skate(c, t, up);
     if (o.json) {
-        print_json(texture_json(o, first, c, texton, t, check, check_skate(c, t, up),
-                                {read_seconds, write_seconds, seconds_since(start)}));
+        print_json(texture_json(o, first, c, texton, t, check, skate, {read_seconds, write_seconds, seconds_since(start)}));
         return;
     }
     std::cout << "texture of " << file_name(o.input) << " frames " << first << ".." << whole.frames() - 1 << " ("
@@ -506,10 +506,13 @@ void run_texture(const texture_options& o) {
               << (check.worst_joint_name.empty() ? "" : " (" + check.worst_joint_name + ")") << ", root speed <= "
               << format_fixed(check.worst_root, 3) << " x" << (check.finite ? "" : "; NON-FINITE VALUES") << "\n";
     if (o.symmetric) std::cout << t.passages << " symmetric passages, " << t.turns.size() << " turns\n";
+    std::cout << (o.plant_feet ? "feet planted in " + std::to_string(t.planted_runs) + " contact runs" : "feet not planted")
+              << "; foot skate " << format_number(skate.output, 3) << " body heights/s"
+              << (skate.input > 0 ? ", " + format_fixed(skate.output / skate.input, 2) + " x the input's" : "") << "\n";
     std::cout << "stages (s): search " << format_number(t.timings.search, 3) << ", cut " << format_number(t.timings.cut, 3)
               << ", fades " << format_number(t.timings.blend, 3) << ", patch " << format_number(t.timings.patch, 3)
-              << ", Poisson " << format_number(t.timings.smoothing, 3) << ", total " << format_number(t.timings.total, 3)
-              << "\n";
+              << ", Poisson " << format_number(t.timings.smoothing, 3) << ", planting "
+              << format_number(t.timings.planting, 3) << ", total " << format_number(t.timings.total, 3) << "\n";
     if (!o.output.empty()) std::cout << "wrote " << o.output << '\n';
     if (!o.texton_output.empty()) std::cout << "wrote " << o.texton_output << " (the texton)\n";
     if (!o.plot.empty())
@@ -586,8 +589,9 @@ void register_texture(CLI::App& app) {
     opts->up_opt = sub->add_option("--up", opts->up, "The clip's up axis, instead of the one guessed from the skeleton")
                        ->type_name("AXIS")
                        ->check(signed_axis_validator());
-    sub->add_flag("--plant-feet", opts->plant_feet,
-                  "Hold feet that are on the ground across seams and turns in place (IK on the legs)");
+    sub->add_flag("--plant-feet,!--no-plant-feet", opts->plant_feet,
+                  "Hold feet that are on the ground across seams and turns in place, IK on the legs (the "
+                  "default; --no-plant-feet leaves them as the seams left them)");
     sub->add_flag("--progress", opts->progress, "Report the time of each stage on stderr");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_texture(*opts); });

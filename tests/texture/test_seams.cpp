@@ -245,6 +245,17 @@ TEST_CASE_TEMPLATE("overlap search: equal to the triple loop on random costs", T
             CHECK(r.first_a == static_cast<std::size_t>(bi));
             CHECK(r.first_b == static_cast<std::size_t>(bj));
         }
+        // Only the windows with i - j >= shift, for a shift some window meets.
+        const auto shift = static_cast<std::ptrdiff_t>(rng.below(static_cast<std::uint64_t>(na + nb - 2 * nn + 1))) -
+                           static_cast<std::ptrdiff_t>(nb - nn);
+        const auto rs = anima::search_overlap(p, n, shift);
+        CHECK(static_cast<std::ptrdiff_t>(rs.first_a) - static_cast<std::ptrdiff_t>(rs.first_b) >= shift);
+        double best_shifted = 1e300;
+        for (Eigen::Index i = 0; i + nn <= na; ++i)
+            for (Eigen::Index j = 0; j + nn <= nb && i - j >= shift; ++j)
+                best_shifted = std::min(best_shifted, static_cast<double>(r.costs(i, j)));
+        CHECK(static_cast<double>(rs.cost) == doctest::Approx(best_shifted).epsilon(tolerance<T>(1e-12, 1e-5)));
+        CHECK(rs.cost >= r.cost);
     }
 }
 
@@ -290,6 +301,11 @@ TEST_CASE("overlap search: errors") {
     const auto one = anima::search_overlap(p, 8);
     CHECK(one.costs.rows() == 3);
     CHECK(one.costs.cols() == 1);
+    // Windows start at i = 0..8: i - j >= 8 leaves (8, 0), 9 none.
+    const auto last = anima::search_overlap(p, 2, 8);
+    CHECK(last.first_a == 8);
+    CHECK(last.first_b == 0);
+    CHECK(contains(invalid_argument_message([&] { (void)anima::search_overlap(p, 2, 9); }), "no window has i - j >= 9"));
 }
 
 // ---------------------------------------------------------------------------

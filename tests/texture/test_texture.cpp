@@ -145,7 +145,7 @@ TEST_CASE_TEMPLATE("texton: fitted lengths and refused input", T, float, double)
 
 TEST_CASE_TEMPLATE("texture: exactly N frames of unit quaternions and finite values", T, float, double) {
     const auto c = walker<T>(250, 37.3, 0.4);
-    anima::motion_texture_params<T> p;
+    auto p = unplanted<T>();
     p.texton.m = 80;
     p.texton.overlap = 40;
     const auto texton = anima::make_texton(c, p.texton);
@@ -188,18 +188,18 @@ void check_seams_smooth(const anima::clip<T>& c, const anima::motion_texture_par
 
 TEST_CASE_TEMPLATE("texture: seams stay within the input's speeds; a cut-and-paste loop does not", T, float, double) {
     SUBCASE("synthetic walk") {
-        anima::motion_texture_params<T> p;
+        auto p = unplanted<T>();
         p.texton.m = 80;
         p.texton.overlap = 40;
         check_seams_smooth(walker<T>(250, 37.3, 0.4), p, 1700, T(0.02));
     }
     SUBCASE("bundled CMU walk") {
         const auto c = walk<T>();
-        check_seams_smooth(c, anima::motion_texture_params<T>{}, 1700, T(0.02));
+        check_seams_smooth(c, unplanted<T>(), 1700, T(0.02));
     }
     SUBCASE("bundled run, shorter than 2m: fitted lengths") {
         const auto c = run<T>();
-        anima::motion_texture_params<T> p;
+        auto p = unplanted<T>();
         p.texton = anima::fit_texton_lengths(p.texton, c.frames());
         check_seams_smooth(c, p, 1700, T(0.02));
     }
@@ -215,10 +215,11 @@ TEST_CASE_TEMPLATE("texture: planting holds feet across seams of the bundled run
     // 1700 frames; 500 in float, whose IK runs unoptimised in this unit; 300
     // under the sanitizers (every path, a sixth of the IK).
     const std::size_t frames = anima_test::sanitized_build ? 300 : std::is_same_v<T, float> ? 500 : 1700;
+    CHECK(p.planting.enabled);  // the default
+    const auto planted = anima::make_motion_texture(c, frames, p);
+    p.planting.enabled = false;
     const auto loose = anima::make_motion_texture(c, frames, p);
     CHECK(loose.planted_runs == 0);
-    p.planting.enabled = true;
-    const auto planted = anima::make_motion_texture(c, frames, p);
     check_well_formed(planted.motion, frames);
     CHECK(planted.planted_runs > (frames < 1700 ? 2u : 10u));
     MESSAGE("run texture skate / input: " << skate(loose.motion) / skate(c) << " loose, "
@@ -235,9 +236,44 @@ TEST_CASE_TEMPLATE("texture: planting holds feet across seams of the bundled run
     for (std::size_t f = 0; f < frames; ++f) REQUIRE(planted.motion.root_position(f) == loose.motion.root_position(f));
 }
 
+TEST_CASE_TEMPLATE("texton: the loop is at least twice the overlap unless asked otherwise", T, float, double) {
+    // 80 frames whose frames 40..59 repeat frames 20..39 (the root going on
+    // from where it is): M2 (frames 40..79) overlaps M1 (0..39) perfectly
+    // at a = 0, b = 20, a loop of only F - m + a - b = 20 frames, every one
+    // of them blended. The swing's period is longer than the clip, so
+    // nothing else repeats.
+    const auto base = walker<T>(60, 200.0, 0.6);
+    anima::clip<T> c(base.skeleton(), 80, base.frame_time());
+    const Eigen::Matrix<T, 3, 1> ahead = base.root_position(40) - base.root_position(20);
+    for (std::size_t f = 0; f < 80; ++f) {
+        const std::size_t from = f < 40 ? f : f - 20;
+        for (std::size_t j = 0; j < c.joints(); ++j) {
+            c.set_rotation(f, j, base.rotation(from, j));
+            if (c.skeleton().translation_slot(j) >= 0) c.set_translation(f, j, base.translation(from, j));
+        }
+        if (f >= 40) c.set_root_position(f, base.root_position(from) + ahead);
+    }
+    anima::texton_params<T> p;
+    p.m = 40;
+    p.overlap = 20;
+    p.blend.frames = 10;
+    const auto fitted = anima::make_texton(c, p);
+    CHECK(fitted.motion.frames() >= 40);
+    CHECK(fitted.offset_m2 >= fitted.offset_m1);
+    p.min_frames = 20;  // allowed: the perfect, all-blended loop
+    const auto short_loop = anima::make_texton(c, p);
+    CHECK(short_loop.motion.frames() == 20);
+    CHECK(short_loop.offset_m2 == 0);
+    CHECK(short_loop.offset_m1 == 20);
+    CHECK(short_loop.search_cost < fitted.search_cost);
+    p.min_frames = 61;
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(c, p); }),
+                   "longest loop a clip of 80 frames allows with an overlap of 20 (60)"));
+}
+
 TEST_CASE_TEMPLATE("texture: the root keeps travelling instead of snapping back", T, float, double) {
     const auto c = walker<T>(250, 37.3, 0.4);
-    anima::motion_texture_params<T> p;
+    auto p = unplanted<T>();
     p.texton.m = 80;
     p.texton.overlap = 40;
     const auto t = anima::make_motion_texture(c, 1200, p);
@@ -247,7 +283,7 @@ TEST_CASE_TEMPLATE("texture: the root keeps travelling instead of snapping back"
     CHECK(travelled == doctest::Approx(per_frame * T(t.motion.frames() - 1)).epsilon(0.05));
 
     const auto w = walk<T>();
-    const auto tw = anima::make_motion_texture(w, 1700, anima::motion_texture_params<T>{});
+    const auto tw = anima::make_motion_texture(w, 1700, unplanted<T>());
     const auto ground = [](Eigen::Matrix<T, 3, 1> v) {
         v.y() = 0;
         return v.norm();
@@ -260,7 +296,7 @@ TEST_CASE_TEMPLATE("texture: the root keeps travelling instead of snapping back"
 TEST_CASE_TEMPLATE("texture: a clip that turns keeps turning (heading alignment)", T, float, double) {
     const double turn = 0.004;  // rad per frame, 1 rad over the clip
     const auto c = walker<T>(250, 37.3, 0.2, turn);
-    anima::motion_texture_params<T> p;
+    auto p = unplanted<T>();
     p.texton.m = 80;
     p.texton.overlap = 40;
     const auto t = anima::make_motion_texture(c, 1200, p);
@@ -290,7 +326,7 @@ TEST_CASE_TEMPLATE("texture: a clip that turns keeps turning (heading alignment)
 
 TEST_CASE_TEMPLATE("texture: symmetric playback mixed in, reproducibly", T, float, double) {
     const auto c = walk<T>();
-    anima::motion_texture_params<T> p;
+    auto p = unplanted<T>();
     p.mixing.symmetric = true;
     p.mixing.probability = T(1);
     p.mixing.playback.seed = 7;
@@ -321,7 +357,7 @@ TEST_CASE_TEMPLATE("texture: symmetric playback mixed in, reproducibly", T, floa
 
 TEST_CASE_TEMPLATE("texture: every option gives N well-formed frames", T, float, double) {
     const auto c = walker<T>(250, 37.3, 0.4);
-    anima::motion_texture_params<T> base;
+    auto base = unplanted<T>();
     base.texton.m = 80;
     base.texton.overlap = 40;
     std::vector<anima::motion_texture_params<T>> variants(9, base);

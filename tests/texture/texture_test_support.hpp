@@ -50,6 +50,16 @@ anima::skeleton<T> figure() {
     return s;
 }
 
+// Texture parameters for the tests of the stages before planting: planting
+// (on by default) has tests of its own, and in float it runs unoptimised
+// in the test's unit.
+template <class T>
+anima::motion_texture_params<T> unplanted() {
+    anima::motion_texture_params<T> p;
+    p.planting.enabled = false;
+    return p;
+}
+
 // A walking-like motion with period `period` frames: every joint swings
 // about X with its own phase (and a little about Z), the hips bob and move
 // forward; `growth` makes the swings grow over the clip (so no two periods

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -59,13 +60,16 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frame_pair_costs(const Eigen::M
 }
 
 /// The overlap offsets (i, j) minimising sum_{t < n} P(i + t, j + t) for a
-/// pair-cost matrix P (|A| x |B|, finite, >= 0) and an overlap of n frames.
-/// Ties go to the smallest i, then the smallest j. Throws
-/// anima::invalid_argument for n = 0, n longer than either motion, or a
-/// negative or non-finite cost.
+/// pair-cost matrix P (|A| x |B|, finite, >= 0) and an overlap of n frames,
+/// among the windows with i - j >= min_shift (every window by default; a
+/// texton uses it to keep its loop long enough). Ties go to the smallest i,
+/// then the smallest j. Throws anima::invalid_argument for n = 0, n longer
+/// than either motion, a negative or non-finite cost, or a min_shift that
+/// no window meets.
 template <class Derived>
-overlap_search_result<typename Derived::Scalar> search_overlap(const Eigen::MatrixBase<Derived>& pair_costs,
-                                                               std::size_t overlap) {
+overlap_search_result<typename Derived::Scalar> search_overlap(
+    const Eigen::MatrixBase<Derived>& pair_costs, std::size_t overlap,
+    std::ptrdiff_t min_shift = std::numeric_limits<std::ptrdiff_t>::min()) {
     using T = typename Derived::Scalar;
     // Prefix sums subtract large partial sums: keep them at least in double.
     using acc = std::common_type_t<T, double>;
@@ -95,10 +99,14 @@ overlap_search_result<typename Derived::Scalar> search_overlap(const Eigen::Matr
             out.costs(i0 + k, j0 + k) = static_cast<T>(std::max(window, acc(0)));
         }
     }
-    Eigen::Index bi = 0, bj = 0;
-    for (Eigen::Index i = 0; i < out.costs.rows(); ++i)
-        for (Eigen::Index j = 0; j < out.costs.cols(); ++j)
-            if (out.costs(i, j) < out.costs(bi, bj)) {
+    const Eigen::Index rows = out.costs.rows();
+    if (min_shift > static_cast<std::ptrdiff_t>(rows - 1))
+        throw invalid_argument("anima::search_overlap: no window has i - j >= " + std::to_string(min_shift) +
+                               " (i is at most " + std::to_string(rows - 1) + ")");
+    Eigen::Index bi = -1, bj = -1;
+    for (Eigen::Index i = 0; i < rows; ++i)
+        for (Eigen::Index j = 0; j < out.costs.cols() && static_cast<std::ptrdiff_t>(i - j) >= min_shift; ++j)
+            if (bi < 0 || out.costs(i, j) < out.costs(bi, bj)) {
                 bi = i;
                 bj = j;
             }

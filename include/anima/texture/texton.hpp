@@ -9,11 +9,12 @@
 //
 // The seam: M2's frames a .. a+n-1 are laid over M1's frames b .. b+n-1
 // (n = the overlap), with (a, b) the offsets of least summed frame
-// distance (overlap_search.hpp). The frames after M2's overlap and before
-// M1's are dropped. Inside the overlap each row (a joint's rotation, the
-// root's translation) switches from M2 to M1 at its own frame, chosen by a
-// min-cut (seam_cut.hpp), and fades over k frames around it
-// (seam_blend.hpp). The texton is then
+// distance (overlap_search.hpp) among those that leave a loop at least
+// twice the overlap long (texton_params::min_frames). The frames after
+// M2's overlap and before M1's are dropped. Inside the overlap each row (a
+// joint's rotation, the root's translation) switches from M2 to M1 at its
+// own frame, chosen by a min-cut (seam_cut.hpp), and fades over k frames
+// around it (seam_blend.hpp). The texton is then
 //
 //   frames m .. F-m-1 | M2 frames 0 .. a-1 | overlap (n) | M1 frames b+n .. m-1
 //
@@ -67,6 +68,14 @@ struct texton_params {
     std::size_t m = 100;
     /// n_overlap: frames where M2 and M1 are both shown; 2 <= overlap <= m.
     std::size_t overlap = 50;
+    /// Shortest loop the offset search may choose, in frames (the texton
+    /// is F - m + a - b frames long). 0: twice the overlap, or the longest
+    /// loop the clip allows (F - overlap) when that is shorter, so that at
+    /// most about half of every pass is blended. Without it a short clip
+    /// can loop on a part of one stride that is almost all overlap, and the
+    /// legs fade between steps the whole time (a 169-frame run looped on
+    /// 46 frames, 42 of them blended). At most F - overlap.
+    std::size_t min_frames = 0;
     /// The frame distance of the offset search (Eq 2 by default); its
     /// per-DOF weights also weigh the seam costs.
     frame_distance_params<T> distance;
@@ -217,6 +226,20 @@ void check_texton_params(const clip<T>& c, const texton_params<T>& params) {
     if (params.blend.frames > n)
         throw invalid_argument(who + "a blend of " + std::to_string(params.blend.frames) +
                                " frames does not fit the overlap of " + std::to_string(n));
+    if (params.min_frames > F - n)
+        throw invalid_argument(who + "min_frames = " + std::to_string(params.min_frames) +
+                               " is longer than the longest loop a clip of " + std::to_string(F) +
+                               " frames allows with an overlap of " + std::to_string(n) + " (" +
+                               std::to_string(F - n) + ")");
+}
+
+/// The least a - b (M2's overlap offset minus M1's) that gives a loop of at
+/// least params.min_frames (or its default) frames: the loop is F - m + a - b.
+template <class T>
+std::ptrdiff_t texton_min_shift(std::size_t F, const texton_params<T>& params) {
+    const std::size_t n = params.overlap;
+    const std::size_t shortest = params.min_frames ? params.min_frames : std::min(2 * n, F - n);
+    return static_cast<std::ptrdiff_t>(shortest) - static_cast<std::ptrdiff_t>(F - params.m);
 }
 
 /// The features the overlap search and the seam costs compare, frames x DOFs
@@ -450,7 +473,8 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
     out.timings.features = clock.lap();
 
     // The (i, j) loop: where M2 and M1 overlap best; M1's side turned to M2's heading.
-    const auto search = search_overlap(frame_pair_costs(x.middleRows(m2_first, M), x.topRows(M), distance), n);
+    const auto search = search_overlap(frame_pair_costs(x.middleRows(m2_first, M), x.topRows(M), distance), n,
+                                       detail::texton_min_shift(F, params));
     out.offset_m2 = search.first_a;
     out.offset_m1 = search.first_b;
     out.search_cost = search.cost;
