@@ -2,6 +2,8 @@
 // against the defining sums evaluated directly in long double: every path
 // (radix 2/3/4/5, a generic prime radix, Bluestein) and both column
 // packings, in float and double.
+#include "../test_support.hpp"
+
 #include <anima/core/error.hpp>
 #include <anima/poisson/fft.hpp>
 #include <anima/poisson/real_transforms.hpp>
@@ -98,8 +100,12 @@ TEST_CASE_TEMPLATE("fft_plan matches the direct DFT for every kind of length", T
         CHECK(plan.uses_bluestein() == (n == 101 || n == 514));
         const auto x = random_complex<T>(n, static_cast<unsigned>(n));
         const double tol = tolerance<T>() * (1 + std::log2(static_cast<double>(n)));
-        CHECK(max_relative_error(plan.forward(x), naive_dft(x, -1)) < tol);
-        CHECK(max_relative_error(plan.inverse(x), naive_dft(x, +1)) < tol);
+        // The quadratic reference at n = 4100 is most of this test's time
+        // under the sanitizers; there the round trip below runs its path.
+        if (!anima_test::sanitized_build || n < 4096) {
+            CHECK(max_relative_error(plan.forward(x), naive_dft(x, -1)) < tol);
+            CHECK(max_relative_error(plan.inverse(x), naive_dft(x, +1)) < tol);
+        }
         // inverse(forward(x)) = n x
         auto back = plan.inverse(plan.forward(x));
         for (auto& z : back) z /= static_cast<T>(n);
