@@ -40,26 +40,18 @@ std::string some_positions(const std::vector<std::size_t>& positions, std::size_
     return out;
 }
 
-/// The stream rendered (resequence), and unless --no-plant-feet the feet on
-/// the ground through a turn or jump held in place; planted_runs into `out`.
+/// The stream rendered (anima::render_stream), and unless --no-plant-feet
+/// the feet on the ground through a turn or jump held in place; planted_runs
+/// into `out`.
 clip_t played_clip(const playback_options& o, const motion_range& m, const std::vector<std::size_t>& stream,
                    const std::vector<std::size_t>& events, json& out) {
-    anima::resequence_params rp;
-    rp.root = anima::parse_root_path(o.root);
-    rp.up = m.up;
-    clip_t result = anima::resequence(m.clip, stream, rp);
-    // Feet on the ground through a turn or jump stay planted (unless
-    // --no-plant-feet), the legs within the clip's own joint speeds.
-    anima::plant_feet_params<double> pp;
-    pp.contacts.up = m.up;
-    pp.joint_speed_limits = anima::clip_speed_limits(m.clip).joint;
-    for (const std::size_t f : events) pp.ranges.push_back({f, f + 1});
-    if (o.plant_feet && !pp.ranges.empty() && anima::has_feet_to_plant(result, pp)) {
-        auto planted = anima::plant_feet(result, pp);
-        result = std::move(planted.planted);
-        out["planted_runs"] = planted.runs;
-    }
-    return result;
+    anima::render_stream_params<double> rp;
+    rp.resequence.root = anima::parse_root_path(o.root);
+    rp.resequence.up = m.up;
+    rp.plant_feet = o.plant_feet;
+    auto rendered = anima::render_stream(m.clip, stream, events, rp);
+    if (rendered.planted_runs > 0) out["planted_runs"] = rendered.planted_runs;
+    return std::move(rendered.motion);
 }
 
 /// Foot skate of the input and the played clip: planted feet by height

@@ -6,9 +6,12 @@
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
 #include <anima/motion/clip.hpp>
+#include <anima/motion/contacts.hpp>
 #include <anima/motion/resequence.hpp>
+#include <anima/motion/speed_limits.hpp>
 #include <anima/motion/frame_distance.hpp>
 #include <anima/motion/frame_features.hpp>
+#include <anima/symmetry/render_stream.hpp>
 #include <anima/symmetry/symmetric_playback.hpp>
 #include <anima/symmetry/symmetry_scores.hpp>
 #include <anima/symmetry/video_texture.hpp>
@@ -240,6 +243,45 @@ TEST_CASE_TEMPLATE("adaptive playback shows more of a real clip than fixed proba
             // spreads the visits more evenly on every clip and metric.
             CHECK(evenness[1] > evenness[0]);
         }
+}
+
+TEST_CASE_TEMPLATE("render_stream: feet held through the turns, the root and the rest as resequenced", T, float, double) {
+    const auto& c = walk<T>();
+    anima::playback_params<T> pp;
+    pp.seed = 3;
+    anima::symmetric_playback<T> playback(c.frames(), candidates_of(c, frame_metric::mahalanobis), pp);
+    const auto stream = playback.take(500);
+    const auto& turns = playback.turns();
+    REQUIRE(turns.size() >= 2);
+    anima::render_stream_params<T> rp;
+    rp.plant_feet = false;
+    const auto loose = anima::render_stream(c, stream, turns, rp);
+    const auto plain = anima::resequence(c, stream);
+    CHECK(loose.planted_runs == 0);
+    for (std::size_t f = 0; f < stream.size(); ++f) {
+        REQUIRE(loose.motion.root_position(f) == plain.root_position(f));
+        for (std::size_t j = 0; j < c.joints(); ++j) REQUIRE(loose.motion.rotation(f, j).coeffs() == plain.rotation(f, j).coeffs());
+    }
+    const auto planted = anima::render_stream(c, stream, turns);  // planting is the default
+    CHECK(planted.planted_runs >= 2);
+    anima::contact_params<T> cp;
+    cp.use_speed = false;  // sliding feet count as planted
+    const auto skate = [&](const anima::clip<T>& m) { return anima::foot_skate(anima::find_contacts(m, cp)).median; };
+    MESSAGE("playback skate / input: " << skate(loose.motion) / skate(c) << " loose, " << skate(planted.motion) / skate(c)
+                                       << " planted");
+    CHECK(skate(planted.motion) < T(0.5) * skate(loose.motion));
+    // Only the legs move: the root's path is the resequenced one, and no
+    // joint turns faster than the walk's own fastest.
+    for (std::size_t f = 0; f < stream.size(); ++f) REQUIRE(planted.motion.root_position(f) == plain.root_position(f));
+    const auto source = anima::clip_speed_limits(c).joint, played = anima::clip_speed_limits(planted.motion).joint;
+    for (std::size_t j = 0; j < c.joints(); ++j) {
+        CAPTURE(c.skeleton()[j].name);
+        CHECK(played[j] <= source[j] * T(1.001) + T(1e-4));
+    }
+    // No events, nothing planted; an event past the stream is refused.
+    CHECK(anima::render_stream(c, stream, {}).planted_runs == 0);
+    CHECK(contains(invalid_argument_message([&] { (void)anima::render_stream(c, stream, {3, 500}); }),
+                   "event 1 is output frame 500, outside the stream's 500 frames"));
 }
 
 TEST_CASE("coverage: fraction of frames shown and evenness of the visits") {
