@@ -1,8 +1,9 @@
 // Play a real walk forwards and backwards: find the frames where it can be
 // reversed without a seam (symmetry scores and turning candidates, Eq 3-5),
 // generate a long frame stream that turns there with adaptive probabilities
-// (Eq 6), compare it with fixed probabilities, and write the new motion as
-// BVH (symmetry_playback.bvh in the working directory).
+// (Eq 6), compare it with fixed probabilities, and write the new motion,
+// feet held where it turns (anima::render_stream), as BVH
+// (symmetry_playback.bvh in the working directory).
 //
 //   example_symmetry_playback [CLIP.bvh [FIRST_FRAME]]
 //
@@ -55,7 +56,7 @@ int main(int argc, char** argv) {
         // 2. A stream of frame indices that reverses at the candidates, with
         //    adaptive probabilities (Eq 6) and, for comparison, fixed ones.
         const std::size_t length = 3000;
-        std::vector<std::size_t> streams[2];
+        std::vector<std::size_t> streams[2], turns[2];
         for (const bool adaptive : {true, false}) {
             anima::playback_params<double> pp;
             pp.adaptive = adaptive;
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
             anima::symmetric_playback<double> playback(clip.frames(), sym.candidates, pp);
             std::vector<std::size_t>& stream = streams[adaptive ? 0 : 1];
             stream = playback.take(length);
+            turns[adaptive ? 0 : 1] = playback.turns();
             const auto cov = anima::coverage(stream, clip.frames());
             std::printf("%s playback, %zu frames: %zu turns, %.1f%% of the clip shown, evenness %.3f\n",
                         adaptive ? "adaptive" : "fixed   ", length, playback.turns().size(), 100 * cov.visited,
@@ -80,12 +82,12 @@ int main(int argc, char** argv) {
             check(!playback.turns().empty(), "playback turns");
         }
 
-        // 3. The new motion: rotations from the source frames; the root keeps
-        //    walking the way it went while the limbs play backwards.
-        anima::resequence_params rp;
-        rp.root = anima::root_path::keep_direction;
-        const anima::clip<double> motion = anima::resequence(clip, streams[0], rp);
-        anima::write_bvh(motion, "symmetry_playback.bvh");
+        // 3. The new motion: rotations from the source frames, the root's
+        //    recorded steps added up, and the feet that are on the ground
+        //    where playback turns held in place (the legs reverse there).
+        const auto played = anima::render_stream(clip, streams[0], turns[0]);
+        std::printf("feet held through the turns: %zu contact runs\n", played.planted_runs);
+        anima::write_bvh(played.motion, "symmetry_playback.bvh");
         const anima::clip<double> back = anima::read_bvh("symmetry_playback.bvh");
         std::printf("wrote symmetry_playback.bvh: %zu frames (%.1f s)\n", back.frames(), back.duration());
         check(back.frames() == length, "the written clip has every frame");
