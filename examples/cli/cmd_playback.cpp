@@ -66,6 +66,12 @@ json skate_of(const motion_range& m, const clip_t& result) {
     return {{"input", in}, {"output", played}, {"ratio", in > 0 ? json(played / in) : json(nullptr)}};
 }
 
+/// "feet planted in N contact runs" or "feet not planted".
+std::string planting_note(const playback_options& o, const json& out) {
+    if (!o.plant_feet) return "feet not planted";
+    return "feet planted in " + std::to_string(out.value("planted_runs", 0)) + " contact runs";
+}
+
 void run_playback(const playback_options& o) {
     check_outputs({{"--output", &o.output}, {"--view", &o.view}});
     const anima::symmetry_params<double> params = make_symmetry_params(o.symmetry);
@@ -183,10 +189,7 @@ void run_playback(const playback_options& o) {
               << format_fixed(100 * cov.visited, 1) << "%), evenness " << format_fixed(cov.evenness, 3) << "\n";
     if (!o.output.empty())
         std::cout << "wrote " << o.output << ": " << o.frames << " frames, root path " << o.root << ", "
-                  << write.decimals << " decimals, "
-                  << (o.plant_feet ? "feet planted in " + std::to_string(out.value("planted_runs", 0)) + " contact runs"
-                                   : "feet not planted")
-                  << "\n";
+                  << write.decimals << " decimals, " << planting_note(o, out) << "\n";
     if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
 }
 
