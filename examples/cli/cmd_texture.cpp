@@ -511,8 +511,9 @@ void run_texture(const texture_options& o) {
               << (skate.input > 0 ? ", " + format_fixed(skate.output / skate.input, 2) + " x the input's" : "") << "\n";
     std::cout << "stages (s): search " << format_number(t.timings.search, 3) << ", cut " << format_number(t.timings.cut, 3)
               << ", fades " << format_number(t.timings.blend, 3) << ", patch " << format_number(t.timings.patch, 3)
-              << ", Poisson " << format_number(t.timings.smoothing, 3) << ", planting "
-              << format_number(t.timings.planting, 3) << ", total " << format_number(t.timings.total, 3) << "\n";
+              << ", Poisson " << format_number(t.timings.smoothing, 3)
+              << (o.plant_feet ? ", planting " + format_number(t.timings.planting, 3) : "") << ", total "
+              << format_number(t.timings.total, 3) << "\n";
     if (!o.output.empty()) std::cout << "wrote " << o.output << '\n';
     if (!o.texton_output.empty()) std::cout << "wrote " << o.texton_output << " (the texton)\n";
     if (!o.plot.empty())
