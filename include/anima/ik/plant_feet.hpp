@@ -379,4 +379,21 @@ bool has_feet_to_plant(const clip<T>& c, const plant_feet_params<T>& params = {}
     return false;
 }
 
+/// plant_feet on the contact runs of `c` that reach `ranges` (in place of
+/// params.ranges), the legs within `limits` when params sets none: the
+/// speeds of the clip that `c` was made from (a texture's or a played
+/// stream's source), which the stitched clip's own fastest, slide included,
+/// would overstate. `c` is left as it is, and 0 returned, when there are no
+/// ranges or no feet to plant; otherwise the number of runs planted.
+template <class T>
+std::size_t plant_feet_in_ranges(clip<T>& c, std::vector<frame_interval> ranges, plant_feet_params<T> params,
+                                 const std::vector<T>& limits) {
+    params.ranges = std::move(ranges);
+    if (params.ranges.empty() || !has_feet_to_plant(c, params)) return 0;
+    if (params.joint_speed_limits.empty()) params.joint_speed_limits = limits;
+    auto planted = plant_feet(c, params);
+    c = std::move(planted.planted);
+    return planted.runs;
+}
+
 }  // namespace anima

@@ -55,13 +55,9 @@ rendered_stream<T> render_stream(const clip<T>& source, const std::vector<std::s
     if (!params.plant_feet || events.empty()) return out;
     plant_feet_params<T> pp = params.planting;
     if (!pp.contacts.up) pp.contacts.up = params.resequence.up;
-    pp.ranges.clear();
-    for (const std::size_t f : events) pp.ranges.push_back({f, f + 1 < stream.size() ? f + 1 : f});
-    if (!has_feet_to_plant(out.motion, pp)) return out;
-    if (pp.joint_speed_limits.empty()) pp.joint_speed_limits = clip_speed_limits(source).joint;
-    auto planted = plant_feet(out.motion, pp);
-    out.motion = std::move(planted.planted);
-    out.planted_runs = planted.runs;
+    std::vector<frame_interval> ranges;
+    for (const std::size_t f : events) ranges.push_back({f, f + 1 < stream.size() ? f + 1 : f});
+    out.planted_runs = plant_feet_in_ranges(out.motion, std::move(ranges), pp, clip_speed_limits(source).joint);
     return out;
 }
 

@@ -362,22 +362,16 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
     out.timings.smoothing = clock.lap();
 
     // Feet planted across the seams and turns.
-    if (params.planting.enabled && has_feet_to_plant(out.motion, params.planting.feet)) {
-        plant_feet_params<T> pp = params.planting.feet;
+    if (params.planting.enabled) {
+        std::vector<frame_interval> ranges;
+        for (const auto& [first, last] : out.overlap_spans) ranges.push_back({first, last});
+        for (const std::size_t f : out.turns) ranges.push_back({f, f});
         // The legs stay within the speeds of the clip the texture is made
         // of, as the seams do.
-        if (pp.joint_speed_limits.empty())
-            pp.joint_speed_limits = texton.source_speeds.joint.size() == texton.motion.joints()
-                                        ? texton.source_speeds.joint
-                                        : clip_speed_limits(texton.motion).joint;
-        pp.ranges.clear();
-        for (const auto& [first, last] : out.overlap_spans) pp.ranges.push_back({first, last});
-        for (const std::size_t f : out.turns) pp.ranges.push_back({f, f});
-        if (!pp.ranges.empty()) {
-            auto planted = plant_feet(out.motion, pp);
-            out.motion = std::move(planted.planted);
-            out.planted_runs = planted.runs;
-        }
+        out.planted_runs = plant_feet_in_ranges(out.motion, std::move(ranges), params.planting.feet,
+                                                texton.source_speeds.joint.size() == texton.motion.joints()
+                                                    ? texton.source_speeds.joint
+                                                    : clip_speed_limits(texton.motion).joint);
     }
     out.timings.planting = clock.lap();
     out.timings.total = texton.timings.total + out.timings.patch + out.timings.smoothing + out.timings.planting;
