@@ -5,6 +5,10 @@
 //   BM_slerp<glm_native, T>                 glm::slerp
 //   BM_slerp<anima, eigen, T>               anima::slerp on Eigen::Quaternion<T>
 //   BM_slerp<eigen_native, T>               Eigen's q1.slerp(t, q2)
+//   BM_slerp_batch<anima, glm, T>           anima::slerp_batch over the batch into an array
+//   BM_slerp_into<glm_native, T>            glm::slerp looped into an array
+//   BM_slerp_batch<anima, eigen, T>         anima::slerp_batch on Eigen::Quaternion<T>
+//   BM_slerp_into<eigen_native, T>          Eigen's slerp looped into an array
 //   BM_squad<anima, glm, T>                 anima::squad, anima control points
 //   BM_squad<glm_native, T>                 glm::squad, glm::intermediate control points
 //   BM_squad_control_point<anima, glm, T>   anima::squad_control_point
@@ -27,6 +31,7 @@
 
 #include <anima/rotation/quat_traits.hpp>
 #include <anima/rotation/slerp.hpp>
+#include <anima/rotation/slerp_batch.hpp>
 #include <anima/rotation/squad.hpp>
 
 #include <benchmark/benchmark.h>
@@ -133,7 +138,9 @@ long double angle_error(const gquat<T>& a, const long double (&b)[4]) {
 /// long double slerp of the same (rounded) inputs.
 template <class T>
 void report_accuracy(const inputs<T>& in) {
-    long double worst_anima = 0, worst_glm = 0, worst_eigen = 0;
+    long double worst_anima = 0, worst_batch = 0, worst_glm = 0, worst_eigen = 0;
+    std::vector<gquat<T>> batch(batch_size);
+    anima::slerp_batch(in.ga.data(), in.gb.data(), in.t.data(), batch_size, batch.data());
     for (std::size_t i = 0; i < batch_size; ++i) {
         const gquat<T>& a = in.ga[i];
         const gquat<T>& b = in.gb[i];
@@ -157,11 +164,14 @@ void report_accuracy(const inputs<T>& in) {
                                     pa[0] * p[3] + pa[1] * p[2] - pa[2] * p[1] + pa[3] * p[0]};
         const T tt = in.t[i];
         worst_anima = std::max(worst_anima, angle_error(anima::slerp(a, b, tt), ref));
+        worst_batch = std::max(worst_batch, angle_error(batch[i], ref));
         worst_glm = std::max(worst_glm, angle_error(glm::slerp(a, b, tt), ref));
         worst_eigen = std::max(worst_eigen, angle_error(to_glm(equat<T>(in.ea[i].slerp(tt, in.eb[i]))), ref));
     }
-    std::fprintf(stderr, "slerp<%s> worst angle error (rad) against long double: anima %.3Lg, glm %.3Lg, eigen %.3Lg\n",
-                 type_name<T>(), worst_anima, worst_glm, worst_eigen);
+    std::fprintf(stderr,
+                 "slerp<%s> worst angle error (rad) against long double: anima %.3Lg, anima slerp_batch %.3Lg, glm "
+                 "%.3Lg, eigen %.3Lg\n",
+                 type_name<T>(), worst_anima, worst_batch, worst_glm, worst_eigen);
 }
 
 template <class T>
@@ -222,12 +232,18 @@ inputs<T> make_inputs() {
     }
 
     // The comparison is only meaningful if both sides compute the same thing.
-    T slerp_glm = 0, slerp_eigen = 0, squad = 0, cp = 0;
+    T slerp_glm = 0, slerp_eigen = 0, batch_glm = 0, batch_eigen = 0, squad = 0, cp = 0;
+    std::vector<gquat<T>> batch(batch_size);
+    std::vector<equat<T>> ebatch(batch_size);
+    anima::slerp_batch(in.ga.data(), in.gb.data(), in.t.data(), batch_size, batch.data());
+    anima::slerp_batch(in.ea.data(), in.eb.data(), in.t.data(), batch_size, ebatch.data());
     for (std::size_t i = 0; i < batch_size; ++i) {
         const T t = in.t[i];
         slerp_glm = std::max(slerp_glm, quat_distance(anima::slerp(in.ga[i], in.gb[i], t), glm::slerp(in.ga[i], in.gb[i], t)));
         slerp_eigen = std::max(slerp_eigen, quat_distance(to_glm(anima::slerp(in.ea[i], in.eb[i], t)),
                                                           to_glm(equat<T>(in.ea[i].slerp(t, in.eb[i])))));
+        batch_glm = std::max(batch_glm, quat_distance(batch[i], glm::slerp(in.ga[i], in.gb[i], t)));
+        batch_eigen = std::max(batch_eigen, quat_distance(to_glm(ebatch[i]), to_glm(equat<T>(in.ea[i].slerp(t, in.eb[i])))));
         const std::size_t k = i + 1;
         cp = std::max(cp, quat_distance(in.anima_cp[k], in.glm_cp[k]));
         squad = std::max(squad, quat_distance(anima::squad(in.keys[k], in.keys[k + 1], in.anima_cp[k], in.anima_cp[k + 1], t),
@@ -236,11 +252,14 @@ inputs<T> make_inputs() {
     report_accuracy(in);
     std::fprintf(stderr,
                  "%s: largest component difference to the peer: slerp %.3g (glm) %.3g (eigen), "
-                 "squad_control_point %.3g, squad %.3g\n",
+                 "slerp_batch %.3g (glm) %.3g (eigen), squad_control_point %.3g, squad %.3g\n",
                  type_name<T>(), static_cast<double>(slerp_glm), static_cast<double>(slerp_eigen),
-                 static_cast<double>(cp), static_cast<double>(squad));
+                 static_cast<double>(batch_glm), static_cast<double>(batch_eigen), static_cast<double>(cp),
+                 static_cast<double>(squad));
     check("slerp (glm::slerp)", slerp_glm);
     check("slerp (Eigen slerp)", slerp_eigen);
+    check("slerp_batch (glm::slerp)", batch_glm);
+    check("slerp_batch (Eigen slerp)", batch_eigen);
     check("squad_control_point (glm::intermediate)", cp);
     check("squad (glm::squad)", squad);
     return in;
@@ -306,6 +325,52 @@ void slerp_eigen(benchmark::State& state) {
         for (std::size_t i = 0; i < batch_size; ++i)
             accumulate(sink, equat<T>(in.ea[i].slerp(in.t[i], in.eb[i])));
         benchmark::DoNotOptimize(sink);
+    }
+    finish(state);
+}
+
+/// The batch into an array, next to the peer's slerp looped into an array
+/// of the same type: both store every result.
+template <class T>
+void slerp_batch_anima_glm(benchmark::State& state) {
+    const auto& in = data<T>();
+    std::vector<gquat<T>> out(batch_size);
+    for (auto _ : state) {
+        anima::slerp_batch(in.ga.data(), in.gb.data(), in.t.data(), batch_size, out.data());
+        benchmark::ClobberMemory();
+    }
+    finish(state);
+}
+
+template <class T>
+void slerp_into_glm(benchmark::State& state) {
+    const auto& in = data<T>();
+    std::vector<gquat<T>> out(batch_size);
+    for (auto _ : state) {
+        for (std::size_t i = 0; i < batch_size; ++i) out[i] = glm::slerp(in.ga[i], in.gb[i], in.t[i]);
+        benchmark::ClobberMemory();
+    }
+    finish(state);
+}
+
+template <class T>
+void slerp_batch_anima_eigen(benchmark::State& state) {
+    const auto& in = data<T>();
+    std::vector<equat<T>> out(batch_size);
+    for (auto _ : state) {
+        anima::slerp_batch(in.ea.data(), in.eb.data(), in.t.data(), batch_size, out.data());
+        benchmark::ClobberMemory();
+    }
+    finish(state);
+}
+
+template <class T>
+void slerp_into_eigen(benchmark::State& state) {
+    const auto& in = data<T>();
+    std::vector<equat<T>> out(batch_size);
+    for (auto _ : state) {
+        for (std::size_t i = 0; i < batch_size; ++i) out[i] = in.ea[i].slerp(in.t[i], in.eb[i]);
+        benchmark::ClobberMemory();
     }
     finish(state);
 }
@@ -395,6 +460,10 @@ void register_all() {
     benchmark::RegisterBenchmark(("BM_slerp<glm_native, " + ty + ">").c_str(), slerp_glm<T>);
     benchmark::RegisterBenchmark(("BM_slerp<anima, eigen, " + ty + ">").c_str(), slerp_anima_eigen<T>);
     benchmark::RegisterBenchmark(("BM_slerp<eigen_native, " + ty + ">").c_str(), slerp_eigen<T>);
+    benchmark::RegisterBenchmark(("BM_slerp_batch<anima, glm, " + ty + ">").c_str(), slerp_batch_anima_glm<T>);
+    benchmark::RegisterBenchmark(("BM_slerp_into<glm_native, " + ty + ">").c_str(), slerp_into_glm<T>);
+    benchmark::RegisterBenchmark(("BM_slerp_batch<anima, eigen, " + ty + ">").c_str(), slerp_batch_anima_eigen<T>);
+    benchmark::RegisterBenchmark(("BM_slerp_into<eigen_native, " + ty + ">").c_str(), slerp_into_eigen<T>);
     benchmark::RegisterBenchmark(("BM_squad<anima, glm, " + ty + ">").c_str(), squad_anima<T>);
     benchmark::RegisterBenchmark(("BM_squad<glm_native, " + ty + ">").c_str(), squad_glm<T>);
     benchmark::RegisterBenchmark(("BM_squad_control_point<anima, glm, " + ty + ">").c_str(), control_point_anima<T>);

@@ -15,6 +15,14 @@ int main() {
     const glm::quat mid = anima::slerp(a, b, 0.5f);
     std::printf("slerp halfway: %.4f rad\n", anima::angle_between(a, mid));
 
+    // A whole pose at once: each joint a quarter of the way from pose_a to pose_b.
+    const glm::quat pose_a[3] = {a, b, glm::angleAxis(1.0f, glm::vec3(1, 0, 0))};
+    const glm::quat pose_b[3] = {b, a, glm::angleAxis(-1.0f, glm::vec3(1, 0, 0))};
+    glm::quat blended[3];
+    anima::slerp_batch(pose_a, pose_b, 0.25f, 3, blended);
+    std::printf("slerp_batch t=0.25: %.4f %.4f %.4f rad from pose_a\n", anima::angle_between(pose_a[0], blended[0]),
+                anima::angle_between(pose_a[1], blended[1]), anima::angle_between(pose_a[2], blended[2]));
+
     // Squad through four keys: control points from each key's neighbours.
     const glm::quat keys[4] = {a, b, anima::from_euler<glm::quat>(0.3f, 1.2f, -0.4f, anima::euler_order::zxy),
                                glm::angleAxis(0.5f, glm::vec3(1, 0, 0))};

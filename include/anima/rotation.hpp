@@ -11,5 +11,6 @@
 #include <anima/rotation/quaternion.hpp>
 #include <anima/rotation/shortest_arc.hpp>
 #include <anima/rotation/slerp.hpp>
+#include <anima/rotation/slerp_batch.hpp>
 #include <anima/rotation/squad.hpp>
 #include <anima/rotation/swing_twist.hpp>

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <random>
 
@@ -151,6 +152,20 @@ Q scaled(const Q& q, scalar<Q> s) {
     return anima::quat_traits<Q>::make(T(p.w) * s, T(p.x) * s, T(p.y) * s, T(p.z) * s);
 }
 
+/// Slerp in long double along the arc as given (no hemisphere flip): a (a^-1 b)^t.
+inline lq ref_slerp_as_given(const lq& a, const lq& b, ld t) {
+    const lq d = conj(a) * b;
+    const ld s = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    if (s == 0) return a;
+    const ld half = std::atan2(s, d.w), k = std::sin(t * half) / s;
+    return a * lq{std::cos(t * half), k * d.x, k * d.y, k * d.z};
+}
+/// Slerp in long double along the shorter arc, from the relative rotation.
+inline lq ref_slerp(const lq& a, lq b, ld t) {
+    if (a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z < 0) b = scale(b, -1);
+    return ref_slerp_as_given(a, b, t);
+}
+
 /// Seeded random numbers, vectors and rotations.
 struct rng {
     std::mt19937 gen;
@@ -181,5 +196,17 @@ struct rng {
         return make<Q>(s * u.w, s * u.x, s * u.y, s * u.z);
     }
 };
+
+/// The partner of a in the i-th pair of the mixed slerp inputs, by i mod 4:
+/// uniformly random, 1e-6 rad apart, nearly antipodal 4-vectors (the same
+/// rotation up to 1e-6 rad), rotations 150 to 180 degrees apart.
+inline lq mixed_partner(rng& r, const lq& a, std::size_t i) {
+    switch (i % 4) {
+    case 0: return r.unit_lq();
+    case 1: return a * rot(1e-6L, r.unit_vector());
+    case 2: return scale(a * rot(1e-6L, r.unit_vector()), -1);
+    default: return a * rot(r.uniform(150, 180) * pi / 180, r.unit_vector());
+    }
+}
 
 }  // namespace rt

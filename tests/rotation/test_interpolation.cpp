@@ -17,19 +17,6 @@
 using namespace rt;
 
 namespace {
-/// Slerp in long double along the arc as given (no hemisphere flip): a (a^-1 b)^t.
-lq ref_slerp_as_given(const lq& a, const lq& b, ld t) {
-    const lq d = conj(a) * b;
-    const ld s = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-    if (s == 0) return a;
-    const ld half = std::atan2(s, d.w), k = std::sin(t * half) / s;
-    return a * lq{std::cos(t * half), k * d.x, k * d.y, k * d.z};
-}
-/// Slerp in long double along the shorter arc, from the relative rotation.
-lq ref_slerp(const lq& a, lq b, ld t) {
-    if (a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z < 0) b = scale(b, -1);
-    return ref_slerp_as_given(a, b, t);
-}
 /// Keys of a smooth random walk, neighbours in the same hemisphere.
 template <class Q>
 std::vector<Q> walk(rng& r, int n) {
@@ -326,14 +313,7 @@ TEST_CASE_TEMPLATE("slerp's worst angle error on mixed inputs is within GLM's ac
     rng r(39);
     ld worst = 0, worst_glm = 0, worst_eigen = 0;
     for (int i = 0; i < 4096; ++i) {
-        const lq a = r.unit_lq();
-        lq b;
-        switch (i % 4) {
-        case 0: b = r.unit_lq(); break;
-        case 1: b = a * rot(1e-6L, r.unit_vector()); break;
-        case 2: b = scale(a * rot(1e-6L, r.unit_vector()), -1); break;
-        default: b = a * rot(r.uniform(150, 180) * pi / 180, r.unit_vector()); break;
-        }
+        const lq a = r.unit_lq(), b = mixed_partner(r, a, i);
         const Q qa = from_lq<Q>(a), qb = from_lq<Q>(b);
         const T t = T(r.uniform(0, 1));
         const lq ref = ref_slerp(to_lq(qa), to_lq(qb), t);  // from the inputs as rounded to T

@@ -11,7 +11,16 @@
 
 #include <anima/rotation/detail/quat4.hpp>
 
+#include <cmath>
 #include <type_traits>
+
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(ANIMA_NO_VECTOR_EXTENSIONS)
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#elif defined(__aarch64__) && defined(__ARM_NEON)
+#include <arm_neon.h>
+#endif
+#endif
 
 namespace anima::detail {
 
@@ -21,6 +30,7 @@ struct lane_array {
     T v[N];
 
     T operator[](int i) const { return v[i]; }
+    T& operator[](int i) { return v[i]; }
 
     template <class F>
     friend lane_array apply(const lane_array& a, const lane_array& b, F f) {
@@ -93,6 +103,28 @@ ANIMA_FORCE_INLINE lanes<T> load_lanes(const T* p) {
         return lanes<T>{p[0], p[1]};
     else
         return lanes<T>{p[0]};
+}
+
+/// Square root in every lane: one instruction with SSE2 or AArch64 NEON. A
+/// loop over std::sqrt does not vectorise, since std::sqrt may set errno.
+template <class T>
+ANIMA_FORCE_INLINE lanes<T> sqrt_lanes(const lanes<T>& x) {
+    if constexpr (!std::is_class_v<lanes<T>>) {
+#if defined(__SSE2__)
+        if constexpr (std::is_same_v<T, float>)
+            return reinterpret_cast<lanes<T>>(_mm_sqrt_ps(reinterpret_cast<__m128>(x)));
+        else
+            return reinterpret_cast<lanes<T>>(_mm_sqrt_pd(reinterpret_cast<__m128d>(x)));
+#elif defined(__aarch64__) && defined(__ARM_NEON)
+        if constexpr (std::is_same_v<T, float>)
+            return reinterpret_cast<lanes<T>>(vsqrtq_f32(reinterpret_cast<float32x4_t>(x)));
+        else
+            return reinterpret_cast<lanes<T>>(vsqrtq_f64(reinterpret_cast<float64x2_t>(x)));
+#endif
+    }
+    lanes<T> r = x;
+    for (int i = 0; i < lane_count<T>; ++i) r[i] = std::sqrt(x[i]);
+    return r;
 }
 
 /// A quaternion spread over 16-byte lanes: one vector of four floats, two of
