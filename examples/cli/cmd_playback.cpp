@@ -54,15 +54,9 @@ clip_t played_clip(const playback_options& o, const motion_range& m, const std::
     return std::move(rendered.motion);
 }
 
-/// Foot skate of the input and the played clip: planted feet by height
-/// alone, so that sliding ones count.
+/// Foot skate of the input and the played clip (median_foot_skate).
 json skate_of(const motion_range& m, const clip_t& result) {
-    anima::contact_params<double> cp;
-    cp.up = m.up;
-    cp.use_speed = false;
-    cp.skip_rest_pose = false;
-    const double in = anima::foot_skate(anima::find_contacts(m.clip, cp)).median;
-    const double played = anima::foot_skate(anima::find_contacts(result, cp)).median;
+    const double in = median_foot_skate(m.clip, m.up), played = median_foot_skate(result, m.up);
     return {{"input", in}, {"output", played}, {"ratio", in > 0 ? json(played / in) : json(nullptr)}};
 }
 

@@ -307,20 +307,10 @@ seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) 
     return out;
 }
 
-/// Foot skate (median speed of planted feet, body heights per second) of the
-/// input and the texture. Contacts by height alone: a texture's sliding feet
-/// must count as planted, not as lifted.
+/// Foot skate of the input and the texture (median_foot_skate).
 struct skate_check {
     double input = 0, output = 0;
 };
-
-skate_check check_skate(const clip_t& c, const anima::motion_texture<double>& t, anima::signed_axis up) {
-    anima::contact_params<double> p;
-    p.up = up;
-    p.use_speed = false;
-    p.skip_rest_pose = false;
-    return {anima::foot_skate(anima::find_contacts(c, p)).median, anima::foot_skate(anima::find_contacts(t.motion, p)).median};
-}
 
 /// The page of --view: the input (M1 and M2 marked) beside the texture
 /// (each pass through the overlap, the frames where the graph-cut seams
@@ -481,7 +471,7 @@ void run_texture(const texture_options& o) {
                   << format_number(t.smoothing.relative_residual, 3) << " above its tolerance\n";
 
     const double dt = c.frame_time();
-    const skate_check skate = check_skate(c, t, up);
+    const skate_check skate{median_foot_skate(c, up), median_foot_skate(t.motion, up)};
     if (o.json) {
         print_json(texture_json(o, first, c, texton, t, check, skate, {read_seconds, write_seconds, seconds_since(start)}));
         return;

@@ -151,7 +151,7 @@ void slerp_batch(const Q* a, const Q* b, const Time& time, std::size_t n, Q* out
         throw invalid_argument("anima::slerp_batch: null array for " + std::to_string(n) + " pairs");
     constexpr std::size_t B = slerp_block_size<T>;
     std::size_t i = 0;
-    for (; i + B <= n; i += B) {
+    for (; n - i >= B; i += B) {
         const auto block_time = [&](int k) { return time(i + static_cast<std::size_t>(k)); };
         if (!slerp_block<T, static_cast<int>(B)>(a + i, b + i, block_time, out + i))
             slerp_pairs(a, b, time, out, i, i + B);
