@@ -49,6 +49,7 @@
 #include <random>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -329,47 +330,39 @@ void slerp_eigen(benchmark::State& state) {
     finish(state);
 }
 
+/// The mixed batch's pairs as quaternions of type Q (GLM's or Eigen's).
+template <class Q, class T>
+std::pair<const std::vector<Q>&, const std::vector<Q>&> pairs_of(const inputs<T>& in) {
+    if constexpr (std::is_same_v<Q, gquat<T>>)
+        return {in.ga, in.gb};
+    else
+        return {in.ea, in.eb};
+}
+
 /// The batch into an array, next to the peer's slerp looped into an array
 /// of the same type: both store every result.
-template <class T>
-void slerp_batch_anima_glm(benchmark::State& state) {
+template <class T, class Q>
+void slerp_batch_anima(benchmark::State& state) {
     const auto& in = data<T>();
-    std::vector<gquat<T>> out(batch_size);
+    const auto [a, b] = pairs_of<Q>(in);
+    std::vector<Q> out(batch_size);
     for (auto _ : state) {
-        anima::slerp_batch(in.ga.data(), in.gb.data(), in.t.data(), batch_size, out.data());
+        anima::slerp_batch(a.data(), b.data(), in.t.data(), batch_size, out.data());
         benchmark::ClobberMemory();
     }
     finish(state);
 }
 
-template <class T>
-void slerp_into_glm(benchmark::State& state) {
+template <class T, class Q>
+void slerp_into_peer(benchmark::State& state) {
     const auto& in = data<T>();
-    std::vector<gquat<T>> out(batch_size);
+    const auto [a, b] = pairs_of<Q>(in);
+    std::vector<Q> out(batch_size);
     for (auto _ : state) {
-        for (std::size_t i = 0; i < batch_size; ++i) out[i] = glm::slerp(in.ga[i], in.gb[i], in.t[i]);
-        benchmark::ClobberMemory();
-    }
-    finish(state);
-}
-
-template <class T>
-void slerp_batch_anima_eigen(benchmark::State& state) {
-    const auto& in = data<T>();
-    std::vector<equat<T>> out(batch_size);
-    for (auto _ : state) {
-        anima::slerp_batch(in.ea.data(), in.eb.data(), in.t.data(), batch_size, out.data());
-        benchmark::ClobberMemory();
-    }
-    finish(state);
-}
-
-template <class T>
-void slerp_into_eigen(benchmark::State& state) {
-    const auto& in = data<T>();
-    std::vector<equat<T>> out(batch_size);
-    for (auto _ : state) {
-        for (std::size_t i = 0; i < batch_size; ++i) out[i] = in.ea[i].slerp(in.t[i], in.eb[i]);
+        if constexpr (std::is_same_v<Q, gquat<T>>)
+            for (std::size_t i = 0; i < batch_size; ++i) out[i] = glm::slerp(a[i], b[i], in.t[i]);
+        else
+            for (std::size_t i = 0; i < batch_size; ++i) out[i] = a[i].slerp(in.t[i], b[i]);
         benchmark::ClobberMemory();
     }
     finish(state);
@@ -460,10 +453,10 @@ void register_all() {
     benchmark::RegisterBenchmark(("BM_slerp<glm_native, " + ty + ">").c_str(), slerp_glm<T>);
     benchmark::RegisterBenchmark(("BM_slerp<anima, eigen, " + ty + ">").c_str(), slerp_anima_eigen<T>);
     benchmark::RegisterBenchmark(("BM_slerp<eigen_native, " + ty + ">").c_str(), slerp_eigen<T>);
-    benchmark::RegisterBenchmark(("BM_slerp_batch<anima, glm, " + ty + ">").c_str(), slerp_batch_anima_glm<T>);
-    benchmark::RegisterBenchmark(("BM_slerp_into<glm_native, " + ty + ">").c_str(), slerp_into_glm<T>);
-    benchmark::RegisterBenchmark(("BM_slerp_batch<anima, eigen, " + ty + ">").c_str(), slerp_batch_anima_eigen<T>);
-    benchmark::RegisterBenchmark(("BM_slerp_into<eigen_native, " + ty + ">").c_str(), slerp_into_eigen<T>);
+    benchmark::RegisterBenchmark(("BM_slerp_batch<anima, glm, " + ty + ">").c_str(), slerp_batch_anima<T, gquat<T>>);
+    benchmark::RegisterBenchmark(("BM_slerp_into<glm_native, " + ty + ">").c_str(), slerp_into_peer<T, gquat<T>>);
+    benchmark::RegisterBenchmark(("BM_slerp_batch<anima, eigen, " + ty + ">").c_str(), slerp_batch_anima<T, equat<T>>);
+    benchmark::RegisterBenchmark(("BM_slerp_into<eigen_native, " + ty + ">").c_str(), slerp_into_peer<T, equat<T>>);
     benchmark::RegisterBenchmark(("BM_squad<anima, glm, " + ty + ">").c_str(), squad_anima<T>);
     benchmark::RegisterBenchmark(("BM_squad<glm_native, " + ty + ">").c_str(), squad_glm<T>);
     benchmark::RegisterBenchmark(("BM_squad_control_point<anima, glm, " + ty + ">").c_str(), control_point_anima<T>);

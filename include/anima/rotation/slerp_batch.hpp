@@ -37,17 +37,6 @@ namespace detail {
 template <class T>
 inline constexpr int slerp_block_size = 4 * lane_count<T>;
 
-/// x[i] = sqrt(x[i]) over a block, a vector at a time.
-template <class T, int B>
-ANIMA_FORCE_INLINE void sqrt_block(T (&x)[B]) {
-    constexpr int width = lane_count<T>;
-    static_assert(B % width == 0, "a block is whole vectors");
-    for (int v = 0; v < B; v += width) {
-        const lanes<T> r = sqrt_lanes<T>(load_lanes(x + v));
-        for (int i = 0; i < width; ++i) x[v + i] = r[i];
-    }
-}
-
 /// The sum of a block, a vector at a time (a loop's floating-point sum is
 /// not reordered into vectors without -ffast-math).
 template <class T, int B>
@@ -73,7 +62,7 @@ ANIMA_FORCE_INLINE bool slerp_block(const Q* a, const Q* b, const Time& time, Q*
         bw[i] = q.w, bx[i] = q.x, by[i] = q.y, bz[i] = q.z;
         t[i] = time(i);
     }
-    T ga[B], gb[B], cos_theta[B], c[B];
+    T ga[B], gb[B], cos_theta[B];
     // The block's validity as two sums, which vectorise where a chain of
     // tests does not: the inputs' length errors (one pair near the limit
     // may send a block to the scalar path, which gives the same results)
@@ -93,12 +82,8 @@ ANIMA_FORCE_INLINE bool slerp_block(const Q* a, const Q* b, const Time& time, Q*
         const T g = T(1.5) - T(0.5) * nb;
         cos_theta[i] = std::abs(d) * ga[i] * g;
         gb[i] = d < T(0) ? -g : g;
-        c[i] = T(0.5) + T(0.5) * cos_theta[i];
     }
     if (!(sum_block(length_error) <= tolerance && sum_block(outside) >= T(0))) return false;
-    sqrt_block(c);  // cos(theta / 2)
-    for (int i = 0; i < B; ++i) c[i] = T(0.5) + T(0.5) * c[i];
-    sqrt_block(c);  // cos(theta / 4)
     // The weights a vector at a time (the series' unrolled terms inside a
     // loop over pairs do not vectorise on their own).
     T k0[B], k1[B];
@@ -107,7 +92,7 @@ ANIMA_FORCE_INLINE bool slerp_block(const Q* a, const Q* b, const Time& time, Q*
     for (int v = 0; v < B; v += width) {
         // k = tau sin(phi) S / sin(theta) with tau = 4t, phi = theta / 4 and
         // sin(theta) / sin(phi) = 4c(2c^2 - 1), as in slerp_weights.
-        const L cv = load_lanes(c + v), tv = load_lanes(t + v), cs = load_lanes(cos_theta + v);
+        const L cs = load_lanes(cos_theta + v), cv = cos_quarter_angle_lanes<T>(cs), tv = load_lanes(t + v);
         const L y = cv - T(1), tau1 = tv * T(4), tau0 = T(4) - tau1;
         const L inv = splat(T(1)) / (cv * (cv * cv * T(2) - T(1)));
         L w0 = (T(1) - tv) * angle_series_lanes<T>(tau0 * tau0, y) * inv;

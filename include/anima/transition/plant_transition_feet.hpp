@@ -8,6 +8,8 @@
 #include <anima/ik/plant_feet.hpp>
 #include <anima/transition/variable_timing_transition.hpp>
 
+#include <utility>
+
 namespace anima {
 
 /// The joined clip with the contact runs that reach the transition (frames
@@ -17,9 +19,8 @@ namespace anima {
 /// A figure without feet to plant (has_feet_to_plant) comes back as it is.
 template <class T>
 joined_clip<T> plant_transition_feet(const joined_clip<T>& joined, plant_feet_params<T> params = {}) {
-    params.ranges = {frame_interval{joined.start_frame, joined.end_frame}};
     joined_clip<T> out = joined;
-    if (has_feet_to_plant(joined.motion, params)) out.motion = plant_feet(joined.motion, params).planted;
+    plant_feet_in_ranges(out.motion, {frame_interval{joined.start_frame, joined.end_frame}}, std::move(params), {});
     return out;
 }
 

@@ -74,6 +74,13 @@ ANIMA_FORCE_INLINE T cos_quarter_angle(T d) {
     return std::sqrt(T(0.5) + T(0.5) * c2);
 }
 
+/// cos_quarter_angle in every lane (the square roots through sqrt_lanes).
+template <class T>
+ANIMA_FORCE_INLINE lanes<T> cos_quarter_angle_lanes(const lanes<T>& d) {
+    const lanes<T> c2 = sqrt_lanes<T>(T(0.5) + d * T(0.5));
+    return sqrt_lanes<T>(T(0.5) + c2 * T(0.5));
+}
+
 /// sin(tau phi) / (tau sin(phi)) for tau^2 = sq and y = cos(phi) - 1, by
 /// Horner's rule over pairs of terms, 1 + w1 + w1 w2 (1 + w3 + w3 w4 (...)),
 /// which halves the dependency chain.
