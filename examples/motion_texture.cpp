@@ -4,6 +4,8 @@
 // and smooth the seams with Poisson. Then check the seams against the
 // clip's own joint and root speeds, next to a plain cut-and-paste loop,
 // and write the result (motion_texture.bvh in the working directory).
+// Last, the clip's two halves as two clips: one loop through both, with a
+// seam from each half into the other.
 //
 //   example_motion_texture [CLIP.bvh [FIRST_FRAME [FRAMES]]]
 //
@@ -90,6 +92,22 @@ int main(int argc, char** argv) {
 
         anima::write_bvh(texture.motion, "motion_texture.bvh");
         std::printf("wrote motion_texture.bvh\n");
+
+        // Several clips of one skeleton: here the two halves of the clip.
+        const std::size_t half = clip.frames() / 2;
+        const std::vector<anima::clip<double>> halves{clip.slice(0, half), clip.slice(half, clip.frames())};
+        anima::motion_texture_params<double> two = params;
+        two.texton = anima::fit_texton_lengths(anima::texton_params<double>{}, half);
+        const auto joined = anima::make_motion_texture(halves, frames, two);
+        for (const auto& seam : joined.texton.seams())
+            std::printf("halves: seam %zu -> %zu at offsets (a, b) = (%zu, %zu) of M2 and M1 (m = %zu), turn %.1f deg\n",
+                        seam.from, seam.to, seam.offset_a, seam.offset_b, joined.texton.m,
+                        anima::degrees(seam.heading_turn));
+        const auto joined_seams = anima::seam_speeds(joined.motion, joined.overlap_spans, limits);
+        std::printf("halves: %zu-frame loop, fastest joint at the %zu seams %.3f x the clip's own\n",
+                    joined.texton.motion.frames(), joined_seams.size(), worst(joined_seams, false));
+        check(joined.texton.seams().size() == 2, "two clips, two seams");
+        check(worst(joined_seams, false) <= 1.02, "the seams between the halves within the clip's own speeds");
     } catch (const anima::error& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 1;

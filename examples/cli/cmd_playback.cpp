@@ -54,9 +54,9 @@ clip_t played_clip(const playback_options& o, const motion_range& m, const std::
     return std::move(rendered.motion);
 }
 
-/// Foot skate of the input and the played clip (median_foot_skate).
+/// Median foot skate of the input and the played clip (anima::clip_foot_skate).
 json skate_of(const motion_range& m, const clip_t& result) {
-    const double in = median_foot_skate(m.clip, m.up), played = median_foot_skate(result, m.up);
+    const double in = anima::clip_foot_skate(m.clip, m.up).median, played = anima::clip_foot_skate(result, m.up).median;
     return {{"input", in}, {"output", played}, {"ratio", in > 0 ? json(played / in) : json(nullptr)}};
 }
 

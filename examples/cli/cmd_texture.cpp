@@ -1,10 +1,12 @@
-// anima texture IN.bvh --frames N -o OUT.bvh: a long motion from a short
-// clip. The clip's last m frames are laid over its first m where they
-// overlap best, every joint switches between them at its own frame (a
-// graph cut), fades over a few frames, and the textons this makes are
-// played end to end and Poisson-smoothed (the graph-cut motion texture).
-// --plot draws the input and the texture as (DOF x frame) images with the
-// seams marked, as the paper's Fig 3 does.
+// anima texture IN.bvh [IN2.bvh ...] --frames N -o OUT.bvh: a long motion
+// from a short clip. The clip's last m frames are laid over its first m
+// where they overlap best, every joint switches between them at its own
+// frame (a graph cut), fades over a few frames, and the textons this makes
+// are played end to end and Poisson-smoothed (the graph-cut motion
+// texture). Several clips of one skeleton make one loop through all of
+// them, with such a seam from each into the next. --plot draws the input
+// and the texture as (DOF x frame) images with the seams marked, as the
+// paper's Fig 3 does.
 #include "commands.hpp"
 #include "common.hpp"
 #include "view_page.hpp"
@@ -28,7 +30,8 @@ namespace anima_cli {
 namespace {
 
 struct texture_options {
-    std::string input, output, plot, texton_output, view;
+    std::vector<std::string> inputs;
+    std::string output, plot, texton_output, view;
     std::size_t frames = 0, m = 100, overlap = 50, blend = 0, first = 0;
     std::uint64_t seed = 1;
     std::string capacity = "normalized", metric = "mahalanobis", smoothing = "1d", solver = "multigrid";
@@ -54,14 +57,16 @@ void colour(double t, unsigned char* rgb) {
     for (int k = 0; k < 3; ++k) rgb[k] = static_cast<unsigned char>(std::lround(stops[i][k] * (1 - u) + stops[i + 1][k] * u));
 }
 
-/// Output frames where the stream crosses each row's graph-cut seam.
+/// Output frames where the stream crosses each row's graph-cut seams.
 std::vector<std::vector<std::size_t>> cut_crossings(const anima::motion_texture<double>& t) {
     std::vector<std::vector<std::size_t>> out(t.texton.rows());
+    const auto seams = t.texton.seams();
     for (std::size_t k = 1; k < t.stream.size(); ++k)
-        for (std::size_t r = 0; r < t.texton.rows(); ++r) {
-            const std::size_t s = t.texton.seam_frame(r), p = t.stream[k - 1], q = t.stream[k];
-            if ((p + 1 == s && q == s) || (p == s && q + 1 == s)) out[r].push_back(k);
-        }
+        for (std::size_t r = 0; r < t.texton.rows(); ++r)
+            for (const auto& seam : seams) {
+                const std::size_t s = seam.seam_frame(r), p = t.stream[k - 1], q = t.stream[k];
+                if ((p + 1 == s && q == s) || (p == s && q + 1 == s)) out[r].push_back(k);
+            }
     return out;
 }
 
@@ -249,17 +254,19 @@ void write_plot(const std::string& path, const clip_t& input, const anima::motio
 
 /// The library's parameters from the options; the up axis is the given one
 /// or the guess from the skeleton.
-anima::motion_texture_params<double> texture_params(const texture_options& o, const clip_t& c) {
+anima::motion_texture_params<double> texture_params(const texture_options& o, const std::vector<clip_t>& clips) {
     anima::motion_texture_params<double> p;
     if (o.up_opt->count() > 0) p.texton.up = parse_signed_axis(o.up);
-    if (!p.texton.up) p.texton.up = anima::guess_up_axis(c.skeleton()).up;
+    if (!p.texton.up) p.texton.up = anima::guess_up_axis(clips[0].skeleton()).up;
+    std::size_t shortest = clips[0].frames();
+    for (const clip_t& c : clips) shortest = std::min(shortest, c.frames());
+    // Defaults shrink to fit the shortest clip; given values are taken as they are.
     const bool m_given = o.m_opt->count() > 0, overlap_given = o.overlap_opt->count() > 0;
     p.texton.m = o.m;
     p.texton.overlap = o.overlap;
-    // Defaults shrink to fit a short clip; given values are taken as they are.
     if (!m_given) {
         const std::size_t keep = p.texton.overlap;
-        p.texton = anima::fit_texton_lengths(p.texton, c.frames());
+        p.texton = anima::fit_texton_lengths(p.texton, shortest);
         if (overlap_given) p.texton.overlap = keep;
     } else if (!overlap_given) {
         p.texton.overlap = std::clamp<std::size_t>(o.m / 2, 2, 50);
@@ -293,7 +300,8 @@ struct seam_check {
 
 seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) {
     seam_check out;
-    out.speeds = anima::seam_speeds(t.motion, t.overlap_spans, anima::clip_speed_limits(c));
+    // Against the fastest the input clips move (the texton's source speeds).
+    out.speeds = anima::seam_speeds(t.motion, t.overlap_spans, t.texton.source_speeds);
     for (const auto& s : out.speeds) {
         if (s.joint_ratio > out.worst_joint) {
             out.worst_joint = s.joint_ratio;
@@ -307,36 +315,44 @@ seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) 
     return out;
 }
 
-/// Foot skate of the input and the texture (median_foot_skate).
+/// Median foot skate of the inputs and the texture (anima::clip_foot_skate).
 struct skate_check {
     double input = 0, output = 0;
 };
 
-/// The page of --view: the input (M1 and M2 marked) beside the texture
-/// (each pass through the overlap, the frames where the graph-cut seams
-/// are crossed, and the symmetric passages' turns).
-view_page texture_page(const texture_options& o, const clip_t& c, const anima::motion_texture<double>& t) {
+/// The page of --view: the inputs (M1 and M2 marked) beside the texture
+/// (each pass through an overlap, the frames where the graph-cut seams are
+/// crossed, and the symmetric passages' turns).
+view_page texture_page(const texture_options& o, const std::vector<clip_t>& clips, const anima::motion_texture<double>& t) {
     view_page page;
-    page.title = "Motion texture of " + file_name(o.input) + ": " + std::to_string(t.motion.frames()) + " frames";
-    page.clips = {{"input " + file_name(o.input), c}, {"texture", t.motion}};
-    const std::size_t m = t.texton.m, n = c.frames();
-    page.markers.push_back({0, 0, m - 1, "m1", "M1, the clip's first " + std::to_string(m) + " frames"});
-    page.markers.push_back({0, n - m, n - 1, "m2", "M2, laid over M1 where they overlap best"});
+    const bool several = clips.size() > 1;
+    page.title = "Motion texture of " + (several ? std::to_string(clips.size()) + " clips" : file_name(o.inputs[0])) + ": " +
+                 std::to_string(t.motion.frames()) + " frames";
+    const std::size_t m = t.texton.m, texture = clips.size();
+    for (std::size_t i = 0; i < clips.size(); ++i) {
+        page.clips.push_back({"input " + file_name(o.inputs[i]), clips[i]});
+        const std::size_t n = clips[i].frames();
+        page.markers.push_back({i, 0, m - 1, "m1", "M1, the clip's first " + std::to_string(m) + " frames"});
+        page.markers.push_back({i, n - m, n - 1, "m2",
+                                several ? "M2, laid over the next clip's M1 where they overlap best"
+                                        : "M2, laid over M1 where they overlap best"});
+    }
+    page.clips.push_back({"texture", t.motion});
     const auto crossings = cut_crossings(t);
     for (std::size_t pass = 0; pass < t.overlap_spans.size(); ++pass) {
         const auto [first, last] = t.overlap_spans[pass];
-        page.markers.push_back({1, first, last, "overlap", "pass " + std::to_string(pass + 1) + " through the overlap"});
+        page.markers.push_back({texture, first, last, "overlap", "pass " + std::to_string(pass + 1) + " through an overlap"});
         std::vector<std::size_t> seams;
         for (const auto& row : crossings)
             for (const std::size_t k : row)
                 if (k >= first && k <= last) seams.push_back(k);
         if (seams.empty()) continue;
         const auto [lo, hi] = std::minmax_element(seams.begin(), seams.end());
-        page.markers.push_back({1, *lo, *hi, "seam",
+        page.markers.push_back({texture, *lo, *hi, "seam",
                                 "graph-cut seams crossed in pass " + std::to_string(pass + 1) + " (" +
                                     std::to_string(seams.size()) + " joint switches)"});
     }
-    for (const auto& marker : frame_markers(1, t.turns, "turn", "symmetric passage turns")) page.markers.push_back(marker);
+    for (const auto& marker : frame_markers(texture, t.turns, "turn", "symmetric passage turns")) page.markers.push_back(marker);
     return page;
 }
 
@@ -344,9 +360,28 @@ struct stage_times {
     double read = 0, write = 0, total = 0;
 };
 
-json texture_json(const texture_options& o, std::size_t first, const clip_t& c, const anima::motion_texton<double>& texton,
-                  const anima::motion_texture<double>& t, const seam_check& check, const skate_check& skate,
-                  const stage_times& times) {
+/// The inputs as read (path, first frame used, frames) and the seams
+/// between them (several clips only).
+json inputs_json(const texture_options& o, const std::vector<std::size_t>& firsts, const std::vector<clip_t>& clips,
+                 const anima::motion_texton<double>& texton) {
+    json inputs = json::array(), joins = json::array();
+    for (std::size_t i = 0; i < clips.size(); ++i)
+        inputs.push_back({{"path", o.inputs[i]}, {"first", firsts[i]}, {"frames", clips[i].frames()}});
+    for (const auto& j : texton.joins)
+        joins.push_back({{"from", o.inputs[j.from]},
+                         {"to", o.inputs[j.to]},
+                         {"offsets", {{"m2", j.offset_a}, {"m1", j.offset_b}}},
+                         {"overlap_start", j.overlap_start},
+                         {"heading_turn_degrees", anima::degrees(j.heading_turn)},
+                         {"search_cost", j.search_cost},
+                         {"cut_cost", j.cut.cost}});
+    return {{"inputs", inputs}, {"joins", joins}};
+}
+
+json texture_json(const texture_options& o, const std::vector<std::size_t>& firsts, const std::vector<clip_t>& clips,
+                  const anima::motion_texton<double>& texton, const anima::motion_texture<double>& t,
+                  const seam_check& check, const skate_check& skate, const stage_times& times) {
+    const clip_t& c = clips[0];
     const double dt = c.frame_time();
     json seams = json::array();
     for (std::size_t col = 0; col < texton.layout.size(); ++col) {
@@ -363,8 +398,8 @@ json texture_json(const texture_options& o, std::size_t first, const clip_t& c, 
                          {"joint_speed_ratio", check.speeds[i].joint_ratio},
                          {"worst_joint", c.skeleton()[check.speeds[i].worst_joint].name},
                          {"root_speed_ratio", check.speeds[i].root_ratio}});
-    json out = {{"input", o.input},
-                {"first", first},
+    json out = {{"input", o.inputs[0]},
+                {"first", firsts[0]},
                 {"input_frames", c.frames()},
                 {"frames", t.motion.frames()},
                 {"seconds", static_cast<double>(t.motion.frames()) * dt},
@@ -407,6 +442,7 @@ json texture_json(const texture_options& o, std::size_t first, const clip_t& c, 
                                    {"planting", t.timings.planting},
                                    {"write", times.write},
                                    {"total", times.total}}}};
+    out.update(inputs_json(o, firsts, clips, texton));
     if (o.symmetric)
         out["symmetric"] = {{"seed", o.seed}, {"probability", o.mix_probability}, {"passages", t.passages}, {"turns", t.turns}};
     if (!o.output.empty()) out["output"] = o.output;
@@ -416,27 +452,55 @@ json texture_json(const texture_options& o, std::size_t first, const clip_t& c, 
     return out;
 }
 
-void run_texture(const texture_options& o) {
-    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}, {"--view", &o.view}});
-    if (!o.plot.empty()) require_png("--plot");
-    const auto start = clock_type::now();
-    const std::string text = read_text_file(o.input);
-    const clip_t whole = anima::to_clip(anima::parse_bvh_document<double>(text, o.input));
-    const int decimals = std::max(6, anima::bvh_value_decimals(text));
-    if (whole.frames() == 0) throw failure("'" + o.input + "' has no frames");
-    std::size_t first = o.first;
+/// One input as the texture uses it: from --first, or after a rest pose it
+/// starts with.
+clip_t read_texture_input(const texture_options& o, const std::string& input, std::size_t& first, int& decimals) {
+    const std::string text = read_text_file(input);
+    const clip_t whole = anima::to_clip(anima::parse_bvh_document<double>(text, input));
+    decimals = std::max(decimals, anima::bvh_value_decimals(text));
+    if (whole.frames() == 0) throw failure("'" + input + "' has no frames");
+    first = o.first;
     const bool first_given = o.first_opt->count() > 0;
     if (first_given && first >= whole.frames())
-        throw failure("--first " + std::to_string(first) + " is outside '" + o.input + "' (" +
+        throw failure("--first " + std::to_string(first) + " is outside '" + input + "' (" +
                       std::to_string(whole.frames()) + " frames)");
     if (!first_given) {
         first = anima::rest_pose_lead_in(whole);
         if (first > 0)
-            std::cerr << "anima: note: frame 0 of '" << o.input << "' is the skeleton's rest pose"
+            std::cerr << "anima: note: frame 0 of '" << input << "' is the skeleton's rest pose"
                       << (first > 1 ? " and frames 1.." + std::to_string(first - 1) + " swing out of it" : "")
                       << "; the texture starts from frame " << first << " (--first 0 keeps them)\n";
     }
-    const clip_t c = first ? whole.slice(first, whole.frames()) : whole;
+    return first ? whole.slice(first, whole.frames()) : whole;
+}
+
+/// "walk.bvh frames 6..342" for each input, joined.
+std::string describe_inputs(const texture_options& o, const std::vector<std::size_t>& firsts,
+                            const std::vector<clip_t>& clips) {
+    std::string out;
+    for (std::size_t i = 0; i < clips.size(); ++i)
+        out += (i == 0 ? "" : i + 1 == clips.size() ? " and " : ", ") + file_name(o.inputs[i]) + " frames " +
+               std::to_string(firsts[i]) + ".." + std::to_string(firsts[i] + clips[i].frames() - 1);
+    return out;
+}
+
+void run_texture(const texture_options& o) {
+    check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}, {"--view", &o.view}});
+    if (!o.plot.empty()) require_png("--plot");
+    if (!o.plot.empty() && o.inputs.size() > 1)
+        throw failure("--plot draws one input against the texture; with " + std::to_string(o.inputs.size()) +
+                      " clips use --view, or leave --plot out");
+    const auto start = clock_type::now();
+    std::vector<clip_t> clips;
+    std::vector<std::size_t> firsts(o.inputs.size());
+    int decimals = 6;
+    for (std::size_t i = 0; i < o.inputs.size(); ++i) clips.push_back(read_texture_input(o, o.inputs[i], firsts[i], decimals));
+    for (std::size_t i = 1; i < clips.size(); ++i) try {
+            anima::check_same_hierarchy(clips[0].skeleton(), clips[i].skeleton());
+        } catch (const anima::invalid_argument& e) {
+            throw failure("'" + o.inputs[i] + "' is not of the skeleton of '" + o.inputs[0] + "': " + e.what());
+        }
+    const clip_t& c = clips[0];
     // The texture, its DOF matrix, the Poisson solve over it and its BVH text.
     check_request_memory(static_cast<double>(o.frames), bytes_per_frame(c.skeleton()),
                          "--frames " + std::to_string(o.frames) + " of " + std::to_string(c.skeleton().channel_count()) +
@@ -444,13 +508,13 @@ void run_texture(const texture_options& o) {
                          "--frames");
     const double read_seconds = seconds_since(start);
 
-    const anima::motion_texture_params<double> p = texture_params(o, c);
+    const anima::motion_texture_params<double> p = texture_params(o, clips);
     const anima::signed_axis up = *p.texton.up;
 
     const auto stage = [&](const char* what, double seconds) {
         if (o.progress || seconds > 1.0) std::cerr << "anima: " << what << ": " << format_number(seconds, 3) << " s\n";
     };
-    const anima::motion_texton<double> texton = anima::make_texton(c, p.texton);
+    const anima::motion_texton<double> texton = anima::make_texton(clips, p.texton);
     stage("texton (features, search, cut, fades)", texton.timings.total);
     const anima::motion_texture<double> t = anima::patch_texton(texton, o.frames, p);
     stage("texture (patching, smoothing)", t.timings.patch + t.timings.smoothing);
@@ -460,9 +524,9 @@ void run_texture(const texture_options& o) {
     write.decimals = decimals;
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(t.motion, write));
     if (!o.texton_output.empty()) write_text_file(o.texton_output, anima::format_bvh(texton.motion, write));
-    if (!o.plot.empty()) write_plot(o.plot, c, t, up, file_name(o.input));
+    if (!o.plot.empty()) write_plot(o.plot, c, t, up, file_name(o.inputs[0]));
     std::string page_written;
-    if (!o.view.empty()) page_written = write_view_page(o.view, texture_page(o, c, t));
+    if (!o.view.empty()) page_written = write_view_page(o.view, texture_page(o, clips, t));
     const double write_seconds = seconds_since(write_start);
 
     const seam_check check = check_seams(c, t);
@@ -471,18 +535,26 @@ void run_texture(const texture_options& o) {
                   << format_number(t.smoothing.relative_residual, 3) << " above its tolerance\n";
 
     const double dt = c.frame_time();
-    const skate_check skate{median_foot_skate(c, up), median_foot_skate(t.motion, up)};
+    const skate_check skate{anima::clip_foot_skate(clips, up).median, anima::clip_foot_skate(t.motion, up).median};
     if (o.json) {
-        print_json(texture_json(o, first, c, texton, t, check, skate, {read_seconds, write_seconds, seconds_since(start)}));
+        print_json(texture_json(o, firsts, clips, texton, t, check, skate, {read_seconds, write_seconds, seconds_since(start)}));
         return;
     }
-    std::cout << "texture of " << file_name(o.input) << " frames " << first << ".." << whole.frames() - 1 << " ("
-              << c.frames() << " at " << format_number(c.frame_rate()) << " fps): " << t.motion.frames() << " frames, "
+    std::size_t input_frames = 0;
+    for (const clip_t& clip : clips) input_frames += clip.frames();
+    std::cout << "texture of " << describe_inputs(o, firsts, clips) << " (" << input_frames << " at "
+              << format_number(c.frame_rate()) << " fps): " << t.motion.frames() << " frames, "
               << format_number(static_cast<double>(t.motion.frames()) * dt, 4) << " s\n";
+    for (const auto& j : texton.joins)
+        std::cout << "join " << file_name(o.inputs[j.from]) << " -> " << file_name(o.inputs[j.to]) << ": M2 frame "
+                  << j.offset_a << " over M1 frame " << j.offset_b << ", heading turn "
+                  << format_number(anima::degrees(j.heading_turn), 3) << " deg, cut cost " << format_number(j.cut.cost, 4)
+                  << "\n";
     std::cout << "texton: m = " << texton.m << ", overlap " << texton.overlap << " (M2 frame " << texton.offset_m2
-              << " over M1 frame " << texton.offset_m1 << "), " << texton.motion.frames() << " frames, fades of "
-              << texton.blend_frames << " frames, heading turn " << format_number(anima::degrees(texton.heading_turn), 3)
-              << " deg per loop\n";
+              << " over M1 frame " << texton.offset_m1
+              << (clips.size() > 1 ? " of " + file_name(o.inputs.front()) + " to close the loop" : std::string()) << "), "
+              << texton.motion.frames() << " frames, fades of " << texton.blend_frames << " frames, heading turn "
+              << format_number(anima::degrees(texton.heading_turn), 3) << " deg per loop\n";
     std::size_t lo = texton.overlap, hi = 0;
     for (std::size_t s : texton.cut.seam) {
         lo = std::min(lo, s);
@@ -492,7 +564,8 @@ void run_texture(const texture_options& o) {
               << format_number(texton.cut.cost, 4) << " (" << format_number(texton.cut.neighbour_cost, 4)
               << " between neighbouring joints)\n";
     std::cout << "seam check over " << check.speeds.size() << " pass" << (check.speeds.size() == 1 ? "" : "es")
-              << " through the overlap: joint speed <= " << format_fixed(check.worst_joint, 3) << " x the input's fastest"
+              << " through " << (clips.size() > 1 ? "the overlaps" : "the overlap") << ": joint speed <= "
+              << format_fixed(check.worst_joint, 3) << " x the input's fastest"
               << (check.worst_joint_name.empty() ? "" : " (" + check.worst_joint_name + ")") << ", root speed <= "
               << format_fixed(check.worst_root, 3) << " x" << (check.finite ? "" : "; NON-FINITE VALUES") << "\n";
     if (o.symmetric) std::cout << t.passages << " symmetric passages, " << t.turns.size() << " turns\n";
@@ -520,8 +593,12 @@ void register_texture(CLI::App& app) {
     using namespace anima_cli;
     auto opts = std::make_shared<texture_options>();
     CLI::App* sub = app.add_subcommand(
-        "texture", "Make a long, seamless motion from a clip: graph-cut textons patched end to end, Poisson-smoothed");
-    sub->add_option("IN", opts->input, "BVH clip")->required()->type_name("PATH");
+        "texture", "Make a long, seamless motion from a clip (or several): graph-cut textons patched end to end, Poisson-smoothed");
+    sub->add_option("IN", opts->inputs,
+                    "BVH clip; several clips of one skeleton and frame rate make one loop through all of them, in the "
+                    "order given")
+        ->required()
+        ->type_name("PATH...");
     sub->add_option("--frames", opts->frames, "Length of the texture in frames")
         ->required()
         ->type_name("N")
@@ -574,7 +651,7 @@ void register_texture(CLI::App& app) {
         ->check(count_up_to(~0ULL))
         ->capture_default_str();
     opts->first_opt = sub->add_option("--first", opts->first,
-                                      "First frame to use (default: after a rest pose the clip starts with, if any)")
+                                      "First frame to use of every clip (default: after a rest pose the clip starts with, if any)")
                           ->type_name("FRAME")
                           ->check(count_up_to(max_frames));
     opts->up_opt = sub->add_option("--up", opts->up, "The clip's up axis, instead of the one guessed from the skeleton")

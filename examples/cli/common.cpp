@@ -564,13 +564,4 @@ anima::symmetry_params<double> make_symmetry_params(const symmetry_options& o) {
     return p;
 }
 
-
-double median_foot_skate(const clip_t& c, anima::signed_axis up) {
-    anima::contact_params<double> p;
-    p.up = up;
-    p.use_speed = false;
-    p.skip_rest_pose = false;
-    return anima::foot_skate(anima::find_contacts(c, p)).median;
-}
-
 }  // namespace anima_cli

@@ -263,11 +263,4 @@ std::vector<CLI::Option*> add_symmetry_options(CLI::App& sub, symmetry_options& 
 /// --window.
 anima::symmetry_params<double> make_symmetry_params(const symmetry_options& o);
 
-/// Median foot skate of a clip (speed of the feet on the ground, body heights
-/// per second), with contacts found by height alone and from the first
-/// frame: the sliding feet of a texture or a playback must count as planted,
-/// not as lifted. The input's and the output's, measured alike.
-double median_foot_skate(const clip_t& c, anima::signed_axis up);
-
-
 }  // namespace anima_cli

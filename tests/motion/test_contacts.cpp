@@ -172,6 +172,28 @@ TEST_CASE_TEMPLATE("foot_skate measures a sliding planted foot", T, float, doubl
     CHECK(air.median == T(0));
 }
 
+TEST_CASE_TEMPLATE("clip_foot_skate: contacts by height, over every clip together", T, float, double) {
+    const auto c = synthetic_clip<T>();
+    // By height alone: the same as foot_skate of contacts found without the speed test.
+    anima::contact_params<T> p;
+    p.use_speed = false;
+    p.skip_rest_pose = false;
+    const auto direct = anima::foot_skate(anima::find_contacts(c, p));
+    const auto one = anima::clip_foot_skate(c);
+    CHECK(one.samples == direct.samples);
+    CHECK(one.median == direct.median);
+    // The speed test would leave sliding frames out of the measure.
+    const auto with_speed = anima::foot_skate(anima::find_contacts(c));
+    CHECK(with_speed.samples < one.samples);
+    CHECK(with_speed.max < one.max);
+    // Two clips: every sample of each, one median over all of them.
+    const auto still = c.slice(220, c.frames());
+    const auto both = anima::clip_foot_skate(std::vector<anima::clip<T>>{c, still});
+    CHECK(both.samples == one.samples + anima::clip_foot_skate(still).samples);
+    CHECK(both.median <= one.median);  // the still part only adds slow samples
+    CHECK(both.max == one.max);
+}
+
 TEST_CASE("find_contacts on empty, one-frame and standing clips, and bad parameters") {
     auto c = synthetic_clip<double>();
     SUBCASE("no frames") {

@@ -1039,3 +1039,35 @@ TEST_CASE_TEMPLATE("scale_clip scales global positions; with_rotation_order keep
     CHECK(o.skeleton()[3].channels.empty());
     CHECK(o.skeleton()[0].channels == std::vector<channel>{xp, yp, zp, xr, yr, zr});
 }
+
+namespace {
+
+TEST_CASE_TEMPLATE("check_same_hierarchy: names, parents and position channels, not offsets", T, float, double) {
+    const auto& walk = walk_clip<T>().skeleton();
+    const auto& run = run_clip<T>().skeleton();
+    anima::check_same_hierarchy(walk, walk);
+    // Other bone lengths and rotation orders are the same hierarchy.
+    anima::skeleton<T> longer;
+    for (std::size_t j = 0; j < walk.size(); ++j) {
+        std::vector<channel> channels = walk[j].channels;
+        std::reverse(channels.begin() + (walk.has_position_channels(j) ? 3 : 0), channels.end());
+        longer.add_joint(walk[j].name, walk[j].parent, T(1.5) * walk[j].offset, channels);
+    }
+    anima::check_same_hierarchy(walk, longer);
+    // A renamed joint is named with its index.
+    anima::skeleton<T> renamed;
+    for (std::size_t j = 0; j < walk.size(); ++j)
+        renamed.add_joint(j == 5 ? std::string("knee") : walk[j].name, walk[j].parent, walk[j].offset, walk[j].channels);
+    std::string e = invalid_argument_message([&] { anima::check_same_hierarchy(walk, renamed); });
+    CHECK(contains(e, "joint 5"));
+    CHECK(contains(e, "'knee'"));
+    // Another layout altogether, and a prefix of the same one.
+    CHECK(!invalid_argument_message([&] { anima::check_same_hierarchy(walk, run); }).empty());
+    anima::skeleton<T> prefix;
+    for (std::size_t j = 0; j + 1 < walk.size(); ++j) prefix.add_joint(walk[j].name, walk[j].parent, walk[j].offset, walk[j].channels);
+    e = invalid_argument_message([&] { anima::check_same_hierarchy(walk, prefix); });
+    CHECK(contains(e, std::to_string(walk.size()) + " vs " + std::to_string(walk.size() - 1)));
+    CHECK(contains(e, walk[walk.size() - 1].name));
+}
+
+}  // namespace

@@ -256,6 +256,55 @@ TEST_CASE_TEMPLATE("Eq 2: velocity_precision is 1 / var of the finite-difference
     }
 }
 
+TEST_CASE_TEMPLATE("Eq 2 over several motions: velocity variances pooled, none across the joins", T, float, double) {
+    // Two stretches of the walk far apart: stacked, the jump between them
+    // would be one huge velocity; pooled, each stretch's velocities are its own.
+    const matrix<T> all = features(walk<T>());
+    const matrix<T> p0 = all.middleRows(20, 90), p1 = all.middleRows(200, 60);
+    const T dt = walk<T>().frame_time();
+    // One motion: the same distance as make_frame_distance of it.
+    const auto one = anima::make_frame_distance(std::vector<matrix<T>>{p0}, dt);
+    CHECK(one.precision == anima::make_frame_distance(p0, dt).precision);
+    // Reference in double: each part's own finite differences, one variance over all.
+    std::vector<Eigen::VectorXd> velocities(static_cast<std::size_t>(all.cols()));
+    for (const matrix<T>* part : {&p0, &p1})
+        for (Eigen::Index d = 0; d < all.cols(); ++d) {
+            const Eigen::Index n = part->rows();
+            Eigen::VectorXd& v = velocities[static_cast<std::size_t>(d)];
+            v.conservativeResize(v.size() + n);
+            for (Eigen::Index f = 0; f < n; ++f) {
+                const double next = static_cast<double>((*part)(std::min(f + 1, n - 1), d));
+                const double prev = static_cast<double>((*part)(std::max<Eigen::Index>(f - 1, 0), d));
+                v[v.size() - n + f] = (next - prev) / ((f == 0 || f == n - 1) ? 1.0 : 2.0) / static_cast<double>(dt);
+            }
+        }
+    Eigen::VectorXd variance(all.cols());
+    for (Eigen::Index d = 0; d < all.cols(); ++d) {
+        const Eigen::VectorXd& v = velocities[static_cast<std::size_t>(d)];
+        variance[d] = (v.array() - v.mean()).square().mean();
+    }
+    const double floor = 1e-3 * variance.maxCoeff();
+    const auto pooled = anima::make_frame_distance(std::vector<matrix<T>>{p0, p1}, dt);
+    REQUIRE(pooled.precision.size() == all.cols());
+    for (Eigen::Index d = 0; d < all.cols(); ++d)
+        CHECK(static_cast<double>(pooled.precision[d]) ==
+              doctest::Approx(1 / std::max(variance[d], floor)).epsilon(tolerance<T>(1e-9, 1e-3)));
+    // Stacked into one motion, the join's jump inflates some variance.
+    matrix<T> stacked(p0.rows() + p1.rows(), all.cols());
+    stacked << p0, p1;
+    CHECK((anima::make_frame_distance(stacked, dt).precision - pooled.precision).cwiseAbs().maxCoeff() >
+          T(0.1) * pooled.precision.cwiseAbs().maxCoeff());
+    // Refused: no motions, different widths (named), a non-finite value in a later motion.
+    CHECK(contains(invalid_argument_message([&] { anima::make_frame_distance(std::vector<matrix<T>>{}, dt); }), "no motions"));
+    const std::string wide = invalid_argument_message(
+        [&] { anima::make_frame_distance(std::vector<matrix<T>>{p0, all.leftCols(all.cols() - 1)}, dt); });
+    CHECK(contains(wide, "motion 1"));
+    matrix<T> bad = p1;
+    bad(3, 2) = std::numeric_limits<T>::quiet_NaN();
+    CHECK(contains(invalid_argument_message([&] { anima::make_frame_distance(std::vector<matrix<T>>{p0, bad}, dt); }),
+                   "frame 3"));
+}
+
 TEST_CASE_TEMPLATE("Eq 2: precision without motion, with one frame, and with bad input", T, float, double) {
     const matrix<T> frozen = matrix<T>::Constant(20, 6, T(1.5));
     CHECK(anima::velocity_precision(frozen, T(0.01)) == vector<T>::Ones(6));

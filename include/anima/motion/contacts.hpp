@@ -428,15 +428,54 @@ skate_summary<T> foot_skate(const foot_contact<T>& foot, std::size_t first = 0,
     return detail::summarise_skate(std::move(speeds));
 }
 
+namespace detail {
+template <class T>
+void append_contact_speeds(const contact_set<T>& contacts, std::size_t first, std::size_t last, std::vector<T>& speeds) {
+    for (const auto& foot : contacts.feet)
+        for (std::size_t f = first; f <= last && f < foot.in_contact.size(); ++f)
+            if (foot.in_contact[f]) speeds.push_back(foot.speed[f]);
+}
+}  // namespace detail
+
 /// The skate of every foot together over frames first..last.
 template <class T>
 skate_summary<T> foot_skate(const contact_set<T>& contacts, std::size_t first = 0,
                             std::size_t last = std::numeric_limits<std::size_t>::max()) {
     std::vector<T> speeds;
-    for (const auto& foot : contacts.feet)
-        for (std::size_t f = first; f <= last && f < foot.in_contact.size(); ++f)
-            if (foot.in_contact[f]) speeds.push_back(foot.speed[f]);
+    detail::append_contact_speeds(contacts, first, last, speeds);
     return detail::summarise_skate(std::move(speeds));
+}
+
+namespace detail {
+template <class T>
+skate_summary<T> clip_foot_skate(const std::vector<const clip<T>*>& clips, std::optional<signed_axis> up) {
+    contact_params<T> p;
+    p.up = up;
+    p.use_speed = false;
+    p.skip_rest_pose = false;
+    std::vector<T> speeds;
+    for (const clip<T>* c : clips)
+        if (has_feet(*c, p)) append_contact_speeds(find_contacts(*c, p), 0, c->frames(), speeds);
+    return summarise_skate(std::move(speeds));
+}
+}  // namespace detail
+
+/// The foot skate of a whole clip as the texture, playback and transition
+/// evaluations compare it: every foot on the ground by height alone (a
+/// speed test would leave out the sliding that is to be measured), rest
+/// pose frames included. Zero samples for a figure without feet. `up`:
+/// guessed from the skeleton when empty.
+template <class T>
+skate_summary<T> clip_foot_skate(const clip<T>& c, std::optional<signed_axis> up = std::nullopt) {
+    return detail::clip_foot_skate(std::vector<const clip<T>*>{&c}, up);
+}
+
+/// clip_foot_skate of several clips together: every contact frame of each.
+template <class T>
+skate_summary<T> clip_foot_skate(const std::vector<clip<T>>& clips, std::optional<signed_axis> up = std::nullopt) {
+    std::vector<const clip<T>*> pointers;
+    for (const clip<T>& c : clips) pointers.push_back(&c);
+    return detail::clip_foot_skate(pointers, up);
 }
 
 }  // namespace anima

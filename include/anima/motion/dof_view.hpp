@@ -54,14 +54,17 @@ struct dof_layout {
     }
 };
 
-/// The DOF layout of a clip's skeleton with the chosen rotation reference.
-/// For dof_reference::mean the reference of a joint is its normalised sum of
-/// rotations (each moved to the first frame's hemisphere): the chordal mean.
-/// An empty clip has identity references.
+namespace detail {
+/// make_dof_layout over the frames of several clips of one skeleton: the
+/// mean reference is taken over all of them (each rotation moved to the
+/// hemisphere of the first clip's first frame), the first-frame reference
+/// is the first clip's.
 template <class T>
-dof_layout<T> make_dof_layout(const clip<T>& c, dof_reference ref = dof_reference::mean) {
+dof_layout<T> dof_layout_of(const std::vector<const clip<T>*>& clips, dof_reference ref) {
     using quat = Eigen::Quaternion<T>;
-    const auto& sk = c.skeleton();
+    const auto& sk = clips.front()->skeleton();
+    std::size_t frames = 0;
+    for (const clip<T>* c : clips) frames += c->frames();
     dof_layout<T> layout;
     layout.reference.assign(sk.size(), quat::Identity());
     for (std::size_t j = 0; j < sk.size(); ++j) {
@@ -69,20 +72,31 @@ dof_layout<T> make_dof_layout(const clip<T>& c, dof_reference ref = dof_referenc
             for (int k = 0; k < 3; ++k) layout.dofs.push_back({j, dof::kind::translation, k});
         if (sk.has_rotation_channels(j))
             for (int k = 0; k < 3; ++k) layout.dofs.push_back({j, dof::kind::rotation, k});
-        if (c.empty() || ref == dof_reference::identity) continue;
+        if (clips.front()->empty() || ref == dof_reference::identity) continue;
+        const quat first = clips.front()->rotation(0, j);
         if (ref == dof_reference::first_frame) {
-            layout.reference[j] = c.rotation(0, j);
+            layout.reference[j] = first;
             continue;
         }
         Eigen::Matrix<T, 4, 1> sum = Eigen::Matrix<T, 4, 1>::Zero();
-        const quat first = c.rotation(0, j);
-        for (std::size_t f = 0; f < c.frames(); ++f) sum += align_hemisphere(c.rotation(f, j), first).coeffs();
+        for (const clip<T>* c : clips)
+            for (std::size_t f = 0; f < c->frames(); ++f) sum += align_hemisphere(c->rotation(f, j), first).coeffs();
         const T n = sum.norm();
         // The sum cancels only for rotations spread evenly over the sphere;
         // fall back to the first frame rather than divide by ~0.
-        layout.reference[j] = n > T(1e-6) * static_cast<T>(c.frames()) ? quat(sum / n) : first;
+        layout.reference[j] = n > T(1e-6) * static_cast<T>(frames) ? quat(sum / n) : first;
     }
     return layout;
+}
+}  // namespace detail
+
+/// The DOF layout of a clip's skeleton with the chosen rotation reference.
+/// For dof_reference::mean the reference of a joint is its normalised sum of
+/// rotations (each moved to the first frame's hemisphere): the chordal mean.
+/// An empty clip has identity references.
+template <class T>
+dof_layout<T> make_dof_layout(const clip<T>& c, dof_reference ref = dof_reference::mean) {
+    return detail::dof_layout_of(std::vector<const clip<T>*>{&c}, ref);
 }
 
 /// The frames x DOF matrix of a clip.

@@ -17,8 +17,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace anima {
 
@@ -91,20 +93,32 @@ void check_finite_dofs(const Eigen::MatrixBase<Derived>& dofs, const char* funct
                                        ", column " + std::to_string(c));
 }
 
-// velocity_precision after its arguments were checked.
-template <class Derived>
-Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> velocity_precision(const Eigen::MatrixBase<Derived>& dofs,
-                                                                              typename Derived::Scalar frame_time,
-                                                                              typename Derived::Scalar regularization) {
-    using T = typename Derived::Scalar;
-    Eigen::Matrix<T, Eigen::Dynamic, 1> precision = Eigen::Matrix<T, Eigen::Dynamic, 1>::Ones(dofs.cols());
-    if (dofs.rows() < 2) return precision;
+// velocity_precision after its arguments were checked, over `parts`
+// motions of `cols` DOFs (part(p) gives one, frames x DOFs): each part's
+// velocity is its own time derivative, the variance is over the frames of
+// all of them together (a pooled variance: no velocity across the end of
+// one part and the start of the next).
+template <class T, class PartOf>
+Eigen::Matrix<T, Eigen::Dynamic, 1> velocity_precision(std::size_t parts, Eigen::Index cols, T frame_time,
+                                                      T regularization, const PartOf& part) {
+    Eigen::Matrix<T, Eigen::Dynamic, 1> precision = Eigen::Matrix<T, Eigen::Dynamic, 1>::Ones(cols);
+    std::size_t samples = 0;
+    for (std::size_t p = 0; p < parts; ++p)
+        if (part(p).rows() >= 2) samples += static_cast<std::size_t>(part(p).rows());
+    if (samples < 2) return precision;
     // One column at a time: the whole velocity matrix would double the
     // memory a long clip needs.
-    Eigen::Matrix<T, Eigen::Dynamic, 1> variance(dofs.cols());
-    for (Eigen::Index d = 0; d < dofs.cols(); ++d) {
-        const Eigen::Matrix<T, Eigen::Dynamic, 1> velocity = time_derivative(dofs.col(d), frame_time);
-        variance[d] = (velocity.array() - velocity.mean()).square().sum() / static_cast<T>(velocity.size());
+    Eigen::Matrix<T, Eigen::Dynamic, 1> variance(cols);
+    for (Eigen::Index d = 0; d < cols; ++d) {
+        T sum = T(0), squares = T(0);
+        for (int pass = 0; pass < 2; ++pass)
+            for (std::size_t p = 0; p < parts; ++p) {
+                if (part(p).rows() < 2) continue;
+                const Eigen::Matrix<T, Eigen::Dynamic, 1> velocity = time_derivative(part(p).col(d), frame_time);
+                if (pass == 0) sum += velocity.sum();
+                else squares += (velocity.array() - sum / static_cast<T>(samples)).square().sum();
+            }
+        variance[d] = squares / static_cast<T>(samples);
         if (!std::isfinite(variance[d]))
             throw invalid_argument("anima::velocity_precision: the velocity variance of column " + std::to_string(d) +
                                    " overflows the scalar type; scale the DOFs down");
@@ -138,7 +152,8 @@ Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> velocity_precision(
     detail::check_regularization(regularization, "anima::velocity_precision");
     detail::check_frame_time(frame_time, "anima::velocity_precision");
     detail::check_finite_dofs(dofs, "anima::velocity_precision");
-    return detail::velocity_precision(dofs, frame_time, regularization);
+    return detail::velocity_precision(1, dofs.cols(), frame_time, regularization,
+                                      [&](std::size_t) -> const Derived& { return dofs.derived(); });
 }
 
 /// The distance of `params.metric` for this DOF matrix (frames x DOFs, e.g.
@@ -163,7 +178,37 @@ frame_distance<typename Derived::Scalar> make_frame_distance(
         return d;
     }
     detail::check_regularization(params.regularization, "anima::make_frame_distance");
-    d.precision = detail::velocity_precision(dofs, frame_time, params.regularization);
+    d.precision = detail::velocity_precision(1, dofs.cols(), frame_time, params.regularization,
+                                             [&](std::size_t) -> const Derived& { return dofs.derived(); });
+    return d;
+}
+
+/// The distance of `params.metric` for frames drawn from several motions
+/// (DOF matrices of the same columns, e.g. the frame features of several
+/// clips of one skeleton): Eq 2's velocity variances are pooled over all
+/// of their frames, each motion's velocity taken within it, so no velocity
+/// is taken across the end of one and the start of the next. With one
+/// motion it is make_frame_distance of that motion. Throws
+/// anima::invalid_argument for no motions, motions of different column
+/// counts (naming the first that differs), and everything the one-motion
+/// form refuses.
+template <class T>
+frame_distance<T> make_frame_distance(const std::vector<Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>>& parts,
+                                      T frame_time, const frame_distance_params<T>& params = {}) {
+    const char* who = "anima::make_frame_distance";
+    if (parts.empty()) throw invalid_argument(std::string(who) + ": no motions to take the distance of");
+    for (std::size_t p = 1; p < parts.size(); ++p)
+        if (parts[p].cols() != parts[0].cols())
+            throw invalid_argument(std::string(who) + ": motion " + std::to_string(p) + " has " +
+                                   std::to_string(parts[p].cols()) + " DOFs, motion 0 has " +
+                                   std::to_string(parts[0].cols()));
+    frame_distance<T> d = make_frame_distance(parts[0], frame_time, params);
+    if (d.metric != frame_metric::mahalanobis || parts.size() == 1) return d;
+    for (std::size_t p = 1; p < parts.size(); ++p) detail::check_finite_dofs(parts[p], who);
+    d.precision = detail::velocity_precision(parts.size(), parts[0].cols(), frame_time, params.regularization,
+                                             [&](std::size_t p) -> const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>& {
+                                                 return parts[p];
+                                             });
     return d;
 }
 

@@ -24,11 +24,12 @@ struct frame_feature_params {
     dof_reference reference = dof_reference::mean;
 };
 
-/// frames x DOF matrix of a clip (columns as anima::make_dof_layout) for
-/// anima::symmetry_scores and anima::make_frame_distance.
+/// frame_features in a given layout (params.reference unused): the
+/// rotations measured from the layout's references, e.g. one layout for
+/// several clips so that their features compare.
 template <class T>
-Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frame_features(const clip<T>& c, const frame_feature_params& params = {}) {
-    const auto layout = make_dof_layout(c, params.reference);
+Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frame_features(const clip<T>& c, const dof_layout<T>& layout,
+                                                                const frame_feature_params& params = {}) {
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> m = to_dof_matrix(c, layout);
     if (params.root_ground_translation) return m;
     const signed_axis up = params.up ? *params.up : guess_up_axis(c.skeleton()).up;
@@ -38,6 +39,13 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frame_features(const clip<T>& c
             m.col(static_cast<Eigen::Index>(k)).setZero();
     }
     return m;
+}
+
+/// frames x DOF matrix of a clip (columns as anima::make_dof_layout) for
+/// anima::symmetry_scores and anima::make_frame_distance.
+template <class T>
+Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frame_features(const clip<T>& c, const frame_feature_params& params = {}) {
+    return frame_features(c, make_dof_layout(c, params.reference), params);
 }
 
 }  // namespace anima

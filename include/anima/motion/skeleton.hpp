@@ -272,4 +272,22 @@ private:
     std::unordered_map<std::string, std::size_t> by_name_;  // joint name -> index
 };
 
+/// Throws anima::invalid_argument naming the first joint whose name, parent
+/// or position channels differ between the two skeletons. Offsets (bone
+/// lengths) and rotation channel orders may differ.
+template <class T>
+void check_same_hierarchy(const skeleton<T>& a, const skeleton<T>& b) {
+    const std::size_t n = std::min(a.size(), b.size());
+    for (std::size_t j = 0; j < n; ++j) {
+        if (a[j].name != b[j].name || a[j].parent != b[j].parent ||
+            a.has_position_channels(j) != b.has_position_channels(j))
+            throw invalid_argument("anima::check_same_hierarchy: the clips' hierarchies differ at joint " + std::to_string(j) + " ('" +
+                                   a[j].name + "' vs '" + b[j].name + "')");
+    }
+    if (a.size() != b.size())
+        throw invalid_argument("anima::check_same_hierarchy: the clips' hierarchies differ: " + std::to_string(a.size()) + " vs " +
+                               std::to_string(b.size()) + " joints (first extra joint '" +
+                               (a.size() > n ? a[n].name : b[n].name) + "')");
+}
+
 }  // namespace anima

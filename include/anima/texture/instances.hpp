@@ -21,8 +21,10 @@
 namespace anima {
 // clang-format off
 ANIMA_TEXTURE_INSTANCE motion_texton<double> make_texton(const clip<double>&, const texton_params<double>&);
+ANIMA_TEXTURE_INSTANCE motion_texton<double> make_texton(const std::vector<clip<double>>&, const texton_params<double>&);
 ANIMA_TEXTURE_INSTANCE motion_texture<double> patch_texton(const motion_texton<double>&, std::size_t, const motion_texture_params<double>&);
 ANIMA_TEXTURE_INSTANCE motion_texture<double> make_motion_texture(const clip<double>&, std::size_t, const motion_texture_params<double>&);
+ANIMA_TEXTURE_INSTANCE motion_texture<double> make_motion_texture(const std::vector<clip<double>>&, std::size_t, const motion_texture_params<double>&);
 // clang-format on
 }  // namespace anima
 #undef ANIMA_TEXTURE_INSTANCE

@@ -110,7 +110,8 @@ struct motion_texture {
     /// the row's fade (the frame after the crossing): its seams as
     /// anima::smooth_seams takes them.
     std::vector<std::vector<std::size_t>> row_seams;
-    /// [first, last] output frames of each pass through the texton's overlap.
+    /// [first, last] output frames of each pass through an overlap of the
+    /// texton (the one of its seam, or of every seam of several clips).
     std::vector<std::pair<std::size_t, std::size_t>> overlap_spans;
     /// Output frames where a symmetric passage reversed.
     std::vector<std::size_t> turns;
@@ -176,28 +177,31 @@ std::vector<std::size_t> texture_stream(const motion_texton<T>& texton, std::siz
 
 namespace detail {
 
-/// Where the stream crosses each row's seam (out.row_seams) and the runs of
-/// texture frames inside the texton's overlap (out.overlap_spans).
+/// Where the stream crosses each row's seams (out.row_seams) and the runs of
+/// texture frames inside an overlap of the texton (out.overlap_spans).
 template <class T>
 void locate_texture_seams(motion_texture<T>& out, const motion_texton<T>& texton, std::size_t frames) {
     const std::size_t rows = texton.rows();
+    const auto seams = texton.seams();
+    std::vector<bool> in_overlap(texton.motion.frames(), false);
+    for (const auto& s : seams)
+        for (std::size_t t = 0; t < s.overlap; ++t) in_overlap[s.overlap_start + t] = true;
     out.row_seams.resize(rows);
     for (std::size_t k = 1; k < frames; ++k) {
         const std::size_t p = out.stream[k - 1], q = out.stream[k];
-        for (std::size_t r = 0; r < rows; ++r) {
-            const std::size_t s = texton.blend_centre(r);
-            if ((p + 1 == s && q == s) || (p == s && q + 1 == s)) out.row_seams[r].push_back(k);
-        }
+        for (std::size_t r = 0; r < rows; ++r)
+            for (const auto& seam : seams) {
+                const std::size_t c = seam.blend_centre(r);
+                if ((p + 1 == c && q == c) || (p == c && q + 1 == c)) out.row_seams[r].push_back(k);
+            }
     }
-    const auto in_overlap = [&](std::size_t f) { return f >= texton.overlap_start && f < texton.overlap_start + texton.overlap; };
     for (std::size_t k = 0; k < frames; ++k) {
-        if (!in_overlap(out.stream[k])) continue;
+        if (!in_overlap[out.stream[k]]) continue;
         if (!out.overlap_spans.empty() && out.overlap_spans.back().second + 1 == k)
             out.overlap_spans.back().second = k;
         else
             out.overlap_spans.emplace_back(k, k);
     }
-
 }
 
 /// Turns each pass of the loop by the texton's heading turn: the root's
@@ -385,6 +389,17 @@ template <class T>
 motion_texture<T> make_motion_texture(const clip<T>& c, std::size_t frames, const motion_texture_params<T>& params = {}) {
     if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
     return patch_texton(make_texton(c, params.texton), frames, params);
+}
+
+/// A texture of `frames` frames that loops through several clips of one
+/// skeleton (make_texton of the clips), with the seams between clips
+/// smoothed and planted as the loop's own. Throws anima::invalid_argument
+/// for frames = 0 and everything make_texton refuses.
+template <class T>
+motion_texture<T> make_motion_texture(const std::vector<clip<T>>& clips, std::size_t frames,
+                                      const motion_texture_params<T>& params = {}) {
+    if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
+    return patch_texton(make_texton(clips, params.texton), frames, params);
 }
 
 }  // namespace anima

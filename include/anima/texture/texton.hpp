@@ -55,6 +55,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -74,7 +75,9 @@ struct texton_params {
     /// most about half of every pass is blended. Without it a short clip
     /// can loop on a part of one stride that is almost all overlap, and the
     /// legs fade between steps the whole time (a 169-frame run looped on
-    /// 46 frames, 42 of them blended). At most F - overlap.
+    /// 46 frames, 42 of them blended). At most F - overlap. A loop through
+    /// several clips is at least one overlap per clip long; a min_frames
+    /// it does not reach is an error.
     std::size_t min_frames = 0;
     /// The frame distance of the offset search (Eq 2 by default); its
     /// per-DOF weights also weigh the seam costs.
@@ -110,6 +113,37 @@ struct texture_timings {
     double features = 0, search = 0, cut = 0, blend = 0, patch = 0, smoothing = 0, planting = 0, total = 0;
 };
 
+namespace detail {
+// Texton frame at the middle of a row's fade (the seam itself without one).
+inline std::size_t fade_centre(std::size_t overlap_start, std::size_t seam, std::size_t blend_frames,
+                               std::size_t overlap) {
+    if (blend_frames == 0) return overlap_start + seam;
+    return overlap_start + blend_window_start(seam, blend_frames, overlap) + blend_frames / 2;
+}
+}  // namespace detail
+
+/// One seam of a texton of several clips: the last m frames of clip `from`
+/// laid over the first m frames of clip `to`, found and cut as the
+/// texton's own seam is.
+template <class T>
+struct texton_join {
+    std::size_t from = 0, to = 0;  ///< clip indices in the order given (to = from + 1, or 0 for the last)
+    std::size_t offset_a = 0;      ///< first overlap frame in from's last m (clip frame F - m + offset_a)
+    std::size_t offset_b = 0;      ///< first overlap frame in to's first m (clip frame offset_b)
+    std::size_t overlap_start = 0; ///< the texton frame where the overlap begins
+    std::size_t overlap = 0, blend_frames = 0;
+    /// Turn about the up axis (radians) that `to` was given, beyond what
+    /// `from` was, to meet from's heading.
+    T heading_turn = T(0);
+    T search_cost = T(0);          ///< summed frame distance over the chosen overlap
+    seam_cut_result<T> cut;        ///< per-row seams and costs, as motion_texton::cut
+
+    std::size_t seam_frame(std::size_t r) const { return overlap_start + cut.seam.at(r); }
+    std::size_t blend_centre(std::size_t r) const {
+        return detail::fade_centre(overlap_start, cut.seam.at(r), blend_frames, overlap);
+    }
+};
+
 template <class T>
 struct motion_texton {
     /// The loop: its last frame leads into its first turned by heading_turn.
@@ -132,7 +166,8 @@ struct motion_texton {
     std::vector<bool> row_rotation;
     /// Per row seams (overlap frames, first frame from M1) and costs.
     seam_cut_result<T> cut;
-    /// The DOF view the texton was cut in (anima::make_dof_layout of the clip).
+    /// The DOF view the texton was cut in (anima::make_dof_layout of the
+    /// clip; of several clips, their common mean rotations).
     dof_layout<T> layout;
     /// What turns each row's fade of values (Eq 11, 13) into a fade of
     /// velocities, frames x DOFs in the columns of `layout`: inside a fade
@@ -150,13 +185,37 @@ struct motion_texton {
     speed_limits<T> source_speeds;
     texture_timings timings;
 
+    /// A texton of several clips: the seams between them (clip i's M2 over
+    /// clip i+1's M1), in loop order. The fields above then describe the
+    /// seam that closes the loop (the last clip's M2 over the first clip's
+    /// M1), and heading_turn is the turn of the whole loop. Empty for one clip.
+    std::vector<texton_join<T>> joins;
+    std::size_t clips = 1;  ///< clips the loop passes through
+
     std::size_t rows() const noexcept { return row_joint.size(); }
     /// Texton frame where row r switches to M1 (the first frame after its seam).
     std::size_t seam_frame(std::size_t r) const { return overlap_start + cut.seam.at(r); }
     /// Texton frame at the middle of row r's fade (the seam itself without one).
     std::size_t blend_centre(std::size_t r) const {
-        if (blend_frames == 0) return seam_frame(r);
-        return overlap_start + blend_window_start(cut.seam.at(r), blend_frames, overlap) + blend_frames / 2;
+        return detail::fade_centre(overlap_start, cut.seam.at(r), blend_frames, overlap);
+    }
+    /// Every seam of the loop in texton order: the joins, then the closing
+    /// seam. Their heading turns add up to heading_turn.
+    std::vector<texton_join<T>> seams() const {
+        std::vector<texton_join<T>> out = joins;
+        texton_join<T> closing;
+        closing.from = clips - 1;
+        closing.offset_a = offset_m2;
+        closing.offset_b = offset_m1;
+        closing.overlap_start = overlap_start;
+        closing.overlap = overlap;
+        closing.blend_frames = blend_frames;
+        closing.heading_turn = heading_turn;
+        for (const auto& j : joins) closing.heading_turn -= j.heading_turn;
+        closing.search_cost = search_cost;
+        closing.cut = cut;
+        out.push_back(std::move(closing));
+        return out;
     }
 };
 
@@ -207,10 +266,11 @@ std::vector<std::pair<std::size_t, std::size_t>> texton_neighbours(const skeleto
 }
 
 
-/// Throws anima::invalid_argument unless the texton lengths fit the clip.
+/// Throws anima::invalid_argument unless the texton lengths fit the clip;
+/// `who` starts each message. min_frames is checked here for a loop of
+/// one clip only (a loop through several is checked once it is made).
 template <class T>
-void check_texton_params(const clip<T>& c, const texton_params<T>& params) {
-    const std::string who = "anima::make_texton: ";
+void check_texton_params(const clip<T>& c, const texton_params<T>& params, const std::string& who, bool one_clip) {
     const std::size_t F = c.frames(), m = params.m, n = params.overlap;
     if (c.joints() == 0) throw invalid_argument(who + "the clip has no joints");
     if (n < 2)
@@ -226,11 +286,36 @@ void check_texton_params(const clip<T>& c, const texton_params<T>& params) {
     if (params.blend.frames > n)
         throw invalid_argument(who + "a blend of " + std::to_string(params.blend.frames) +
                                " frames does not fit the overlap of " + std::to_string(n));
-    if (params.min_frames > F - n)
+    if (one_clip && params.min_frames > F - n)
         throw invalid_argument(who + "min_frames = " + std::to_string(params.min_frames) +
                                " is longer than the longest loop a clip of " + std::to_string(F) +
                                " frames allows with an overlap of " + std::to_string(n) + " (" +
                                std::to_string(F - n) + ")");
+}
+
+/// Throws anima::invalid_argument, naming the clip, for no clips, a clip the
+/// texton lengths do not fit, or a clip whose hierarchy or frame time is
+/// not the first clip's.
+template <class T>
+void check_texton_clips(const std::vector<const clip<T>*>& clips, const texton_params<T>& params) {
+    const std::string who = "anima::make_texton: ";
+    if (clips.empty()) throw invalid_argument(who + "no clips to make a texton of");
+    const bool one = clips.size() == 1;
+    for (std::size_t i = 0; i < clips.size(); ++i) {
+        const std::string where = one ? who : who + "clip " + std::to_string(i) + ": ";
+        check_texton_params(*clips[i], params, where, one);
+        if (i == 0) continue;
+        try {
+            check_same_hierarchy(clips[0]->skeleton(), clips[i]->skeleton());
+        } catch (const invalid_argument& e) {
+            throw invalid_argument(where + "its skeleton is not clip 0's (" + e.what() + ")");
+        }
+        const T dt0 = clips[0]->frame_time(), dt = clips[i]->frame_time();
+        if (std::abs(dt - dt0) > T(1e-4) * dt0)
+            throw invalid_argument(where + "its frame time (" + std::to_string(static_cast<double>(dt)) +
+                                   " s) is not clip 0's (" + std::to_string(static_cast<double>(dt0)) +
+                                   " s); resample it first");
+    }
 }
 
 /// The least a - b (M2's overlap offset minus M1's) that gives a loop of at
@@ -243,7 +328,8 @@ std::ptrdiff_t texton_min_shift(std::size_t F, const texton_params<T>& params) {
 }
 
 /// The features the overlap search and the seam costs compare, frames x DOFs
-/// of `layout`: frame_features (ground position zeroed) with the root's
+/// of `layout` (rotations from its references): frame_features (ground
+/// position zeroed) with the root's
 /// ground velocity added; when `align`, the root's rotation without its
 /// heading and the velocity in the heading's frame.
 template <class T>
@@ -256,7 +342,7 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> texton_features(const clip<T>& 
     const int up_k = static_cast<int>(up.axis);
     frame_feature_params fp;
     fp.up = up;
-    matrix x = frame_features(c, fp);
+    matrix x = frame_features(c, layout, fp);
     const bool root_moves = c.skeleton().translation_slot(0) >= 0;
     const vec3 up_vec = axis_vector<T>(up);
     std::vector<quat> heading(align ? F : 0);
@@ -284,14 +370,15 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> texton_features(const clip<T>& 
     return x;
 }
 
-/// The turn about `up_vec` that takes M1's heading to M2's: the circular
-/// mean of the root's heading differences over the n overlap frames.
+/// The turn about `up_vec` that takes M1's heading (clip b's) to M2's (clip
+/// a's): the circular mean of the root's heading differences over the n
+/// overlap frames.
 template <class T>
-T overlap_heading_turn(const clip<T>& c, std::size_t a_first, std::size_t b_first, std::size_t n,
+T overlap_heading_turn(const clip<T>& a, std::size_t a_first, const clip<T>& b, std::size_t b_first, std::size_t n,
                        const Eigen::Matrix<T, 3, 1>& up_vec) {
     T sin_sum = T(0), cos_sum = T(0);
     for (std::size_t t = 0; t < n; ++t) {
-        const T d = twist_angle(c.rotation(a_first + t, 0), up_vec) - twist_angle(c.rotation(b_first + t, 0), up_vec);
+        const T d = twist_angle(a.rotation(a_first + t, 0), up_vec) - twist_angle(b.rotation(b_first + t, 0), up_vec);
         sin_sum += std::sin(d);
         cos_sum += std::cos(d);
     }
@@ -311,27 +398,33 @@ clip<T> turned_about_up(const clip<T>& c, T angle, const Eigen::Matrix<T, 3, 1>&
     return out;
 }
 
-/// Writes the texton's frames into out.motion: M2 up to the overlap, the
-/// faded overlap (alpha: rows x overlap frames, 1 = M2's side a, 0 = M1's
-/// side b of `cb`), then M1; the root's ground path is the sum of the steps.
+/// A stretch of the texton: frames a_first.. of clip `a`, or, where `alpha`
+/// is set (rows x length, 1 = side a), an overlap faded from a's frames
+/// a_first.. to b's frames b_first..
 template <class T>
-void assemble_texton(motion_texton<T>& out, const clip<T>& c, const clip<T>& cb,
-                     const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>& alpha, std::size_t a_first,
-                     std::size_t b_first, int up_k) {
+struct texton_piece {
+    const clip<T>* a = nullptr;
+    std::size_t a_first = 0;
+    const clip<T>* b = nullptr;
+    std::size_t b_first = 0;
+    const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>* alpha = nullptr;
+    std::size_t length = 0;
+};
+
+/// Writes the pieces end to end into out.motion; the root's ground path is
+/// the sum of the steps each piece's frames took in their clips.
+template <class T>
+void assemble_texton(motion_texton<T>& out, const std::vector<texton_piece<T>>& pieces, int up_k) {
     using vec3 = Eigen::Matrix<T, 3, 1>;
-    const auto& sk = c.skeleton();
-    const std::size_t F = c.frames(), m = out.m, n = out.overlap;
+    const clip<T>& first = *pieces.front().a;
+    const auto& sk = first.skeleton();
     const bool root_moves = sk.translation_slot(0) >= 0;
     std::vector<long> rot_row(sk.size(), -1), tra_row(sk.size(), -1);
     for (std::size_t r = 0; r < out.rows(); ++r)
         (out.row_rotation[r] ? rot_row : tra_row)[out.row_joint[r]] = static_cast<long>(r);
-    const std::size_t length = F - m + out.offset_m2 - out.offset_m1;
-    out.motion = clip<T>(sk, length, c.frame_time());
-    // Source clip and frame of a texton frame outside the overlap.
-    const auto source = [&](std::size_t k) -> std::pair<const clip<T>*, std::size_t> {
-        if (k < out.overlap_start) return {&c, m + k};
-        return {&cb, out.offset_m1 + n + (k - out.overlap_start - n)};
-    };
+    std::size_t length = 0;
+    for (const auto& p : pieces) length += p.length;
+    out.motion = clip<T>(sk, length, first.frame_time());
     const auto ground = [up_k](vec3 v) {
         v[up_k] = T(0);
         return v;
@@ -341,54 +434,63 @@ void assemble_texton(motion_texton<T>& out, const clip<T>& c, const clip<T>& cb,
         return f > 0 ? ground(from.root_position(f) - from.root_position(f - 1))
                      : ground(from.root_position(1) - from.root_position(0));
     };
-    vec3 position = root_moves ? ground(c.root_position(m)) : vec3::Zero();
-    for (std::size_t k = 0; k < length; ++k) {
-        const bool in_overlap = k >= out.overlap_start && k < out.overlap_start + n;
-        vec3 root_step = vec3::Zero();
-        if (!in_overlap) {
-            const auto [from, f] = source(k);
-            for (std::size_t j = 0; j < sk.size(); ++j) {
-                out.motion.set_rotation(k, j, from->rotation(f, j));
-                if (sk.translation_slot(j) >= 0) out.motion.set_translation(k, j, from->translation(f, j));
+    vec3 position = root_moves ? ground(first.root_position(pieces.front().a_first)) : vec3::Zero();
+    std::size_t k = 0;
+    for (const auto& p : pieces)
+        for (std::size_t t = 0; t < p.length; ++t, ++k) {
+            const clip<T>& a = *p.a;
+            const std::size_t fa = p.a_first + t;
+            vec3 root_step = vec3::Zero();
+            if (!p.alpha) {
+                for (std::size_t j = 0; j < sk.size(); ++j) {
+                    out.motion.set_rotation(k, j, a.rotation(fa, j));
+                    if (sk.translation_slot(j) >= 0) out.motion.set_translation(k, j, a.translation(fa, j));
+                }
+                if (root_moves) root_step = step(a, fa);
+            } else {
+                const clip<T>& b = *p.b;
+                const std::size_t fb = p.b_first + t;
+                const auto col = static_cast<Eigen::Index>(t);
+                for (std::size_t j = 0; j < sk.size(); ++j) {
+                    const auto& qa = a.rotation(fa, j);
+                    if (rot_row[j] >= 0)
+                        out.motion.set_rotation(k, j, slerp(b.rotation(fb, j), qa, (*p.alpha)(rot_row[j], col)));
+                    else
+                        out.motion.set_rotation(k, j, qa);
+                    if (sk.translation_slot(j) < 0) continue;
+                    const T w = tra_row[j] >= 0 ? (*p.alpha)(tra_row[j], col) : T(1);
+                    out.motion.set_translation(k, j, w * a.translation(fa, j) + (T(1) - w) * b.translation(fb, j));
+                    if (j == 0) root_step = w * step(a, fa) + (T(1) - w) * step(b, fb);
+                }
             }
-            if (root_moves) root_step = step(*from, f);
-        } else {
-            const std::size_t t = k - out.overlap_start;
-            const std::size_t fa = a_first + t, fb = b_first + t;
-            for (std::size_t j = 0; j < sk.size(); ++j) {
-                const auto& qa = c.rotation(fa, j);
-                const auto& qb = cb.rotation(fb, j);
-                if (rot_row[j] >= 0)
-                    out.motion.set_rotation(k, j, slerp(qb, qa, alpha(rot_row[j], static_cast<Eigen::Index>(t))));
-                else
-                    out.motion.set_rotation(k, j, qa);
-                if (sk.translation_slot(j) < 0) continue;
-                const T w = tra_row[j] >= 0 ? alpha(tra_row[j], static_cast<Eigen::Index>(t)) : T(1);
-                out.motion.set_translation(k, j, w * c.translation(fa, j) + (T(1) - w) * cb.translation(fb, j));
-                if (j == 0) root_step = w * step(c, fa) + (T(1) - w) * step(cb, fb);
-            }
+            if (!root_moves) continue;
+            if (k > 0) position += root_step;
+            vec3 pos = position;
+            pos[up_k] = out.motion.root_position(k)[up_k];
+            out.motion.set_root_position(k, pos);
         }
-        if (!root_moves) continue;
-        if (k > 0) position += root_step;
-        vec3 p = position;
-        p[up_k] = out.motion.root_position(k)[up_k];
-        out.motion.set_root_position(k, p);
-    }
 }
 
-/// out.fade_correction (see there), built in the DOF view from the two
-/// sources of the overlap: `c` (side a) and `cb` (side b, c turned or c).
+/// One seam as the fade corrections see it: the DOF matrices of its two
+/// sides (side b turned as it is shown), where its overlap starts in them
+/// and in the texton, its per-row seams and fade weights.
 template <class T>
-void fade_corrections(motion_texton<T>& out, const clip<T>& c, const clip<T>* turned,
-                      const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>& alpha, std::size_t a_first_frame,
-                      std::size_t b_first_frame, int up_k) {
+struct fade_seam {
+    const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>* raw_a = nullptr;
+    const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>* raw_b = nullptr;
+    std::size_t a_first = 0, b_first = 0, overlap_start = 0;
+    const std::vector<std::size_t>* seam = nullptr;
+    const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>* alpha = nullptr;
+};
+
+/// out.fade_correction (see there), built in the DOF view from the two
+/// sides of every seam.
+template <class T>
+void fade_corrections(motion_texton<T>& out, const std::vector<fade_seam<T>>& seams, int up_k) {
     using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
     using vec3 = Eigen::Matrix<T, 3, 1>;
     using quat = Eigen::Quaternion<T>;
     const std::size_t n = out.overlap;
-    const auto a_first = static_cast<Eigen::Index>(a_first_frame), b_first = static_cast<Eigen::Index>(b_first_frame);
-    const matrix raw_a = to_dof_matrix(c, out.layout);
-    const matrix raw_b = turned ? to_dof_matrix(*turned, out.layout) : raw_a;
     matrix y = to_dof_matrix(out.motion, out.layout);
     unwrap_rotation_vectors(y, out.layout);
     matrix z = y;
@@ -398,37 +500,40 @@ void fade_corrections(motion_texton<T>& out, const clip<T>& c, const clip<T>* tu
         return rotation ? vec3(nearest_equivalent(v1, v0) - v0) : vec3(v1 - v0);
     };
     const std::size_t k_len = out.blend_frames;
-    for (std::size_t r = 0; r < out.rows() && k_len > 0; ++r) {
-        const auto col = static_cast<Eigen::Index>(3 * r);
-        const bool rotation = out.row_rotation[r];
-        const std::size_t w = blend_window_start(out.cut.seam[r], k_len, n);  // overlap frame
-        const std::size_t centre = w + k_len / 2;
-        // Velocity of the fade into overlap frame t (from t - 1).
-        const auto fade_step = [&](std::size_t t) -> vec3 {
-            // Into the overlap's first frame: from a frame of A (alpha = 1).
-            if (t == 0) return step_of(raw_a, a_first, col, rotation);
-            const T w_a = (alpha(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(t)) +
-                           alpha(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(t - 1))) / T(2);
-            return w_a * step_of(raw_a, a_first + static_cast<Eigen::Index>(t), col, rotation) +
-                   (T(1) - w_a) * step_of(raw_b, b_first + static_cast<Eigen::Index>(t), col, rotation);
-        };
-        const auto at = [&](std::size_t t) { return static_cast<Eigen::Index>(out.overlap_start + t); };
-        // Forward from the last frame before the fade (its first frame when
-        // the texton starts there), backwards from the fade's last frame.
-        const bool before = w > 0 || out.overlap_start > 0;
-        for (std::size_t t = before ? w : w + 1; t < centre; ++t)
-            z.row(at(t)).segment(col, 3) = z.row(at(t) - 1).segment(col, 3) + fade_step(t).transpose();
-        for (std::size_t t = w + k_len - 1; t-- > centre;)
-            z.row(at(t)).segment(col, 3) = z.row(at(t) + 1).segment(col, 3) - fade_step(t + 1).transpose();
-        for (std::size_t t = w; t + 1 < w + k_len; ++t) {
-            const vec3 from = y.row(at(t)).segment(col, 3).transpose(), to = z.row(at(t)).segment(col, 3).transpose();
-            out.fade_correction.row(at(t)).segment(col, 3) =
-                (rotation ? vec3(to_rotation_vector(quat(from_rotation_vector<quat>(from).conjugate() *
-                                                         from_rotation_vector<quat>(to))))
-                          : vec3(to - from))
-                    .transpose();
+    for (const fade_seam<T>& s : seams)
+        for (std::size_t r = 0; r < out.rows() && k_len > 0; ++r) {
+            const auto col = static_cast<Eigen::Index>(3 * r);
+            const bool rotation = out.row_rotation[r];
+            const auto a_first = static_cast<Eigen::Index>(s.a_first), b_first = static_cast<Eigen::Index>(s.b_first);
+            const matrix& alpha = *s.alpha;
+            const std::size_t w = blend_window_start((*s.seam)[r], k_len, n);  // overlap frame
+            const std::size_t centre = w + k_len / 2;
+            // Velocity of the fade into overlap frame t (from t - 1).
+            const auto fade_step = [&](std::size_t t) -> vec3 {
+                // Into the overlap's first frame: from a frame of side a (alpha = 1).
+                if (t == 0) return step_of(*s.raw_a, a_first, col, rotation);
+                const T w_a = (alpha(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(t)) +
+                               alpha(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(t - 1))) / T(2);
+                return w_a * step_of(*s.raw_a, a_first + static_cast<Eigen::Index>(t), col, rotation) +
+                       (T(1) - w_a) * step_of(*s.raw_b, b_first + static_cast<Eigen::Index>(t), col, rotation);
+            };
+            const auto at = [&](std::size_t t) { return static_cast<Eigen::Index>(s.overlap_start + t); };
+            // Forward from the last frame before the fade (its first frame when
+            // the texton starts there), backwards from the fade's last frame.
+            const bool before = w > 0 || s.overlap_start > 0;
+            for (std::size_t t = before ? w : w + 1; t < centre; ++t)
+                z.row(at(t)).segment(col, 3) = z.row(at(t) - 1).segment(col, 3) + fade_step(t).transpose();
+            for (std::size_t t = w + k_len - 1; t-- > centre;)
+                z.row(at(t)).segment(col, 3) = z.row(at(t) + 1).segment(col, 3) - fade_step(t + 1).transpose();
+            for (std::size_t t = w; t + 1 < w + k_len; ++t) {
+                const vec3 from = y.row(at(t)).segment(col, 3).transpose(), to = z.row(at(t)).segment(col, 3).transpose();
+                out.fade_correction.row(at(t)).segment(col, 3) =
+                    (rotation ? vec3(to_rotation_vector(quat(from_rotation_vector<quat>(from).conjugate() *
+                                                             from_rotation_vector<quat>(to))))
+                              : vec3(to - from))
+                        .transpose();
+            }
         }
-    }
     // The root's ground path is a sum of steps, not a DOF to correct.
     for (std::size_t col = 0; col < out.layout.size(); ++col) {
         const dof& d = out.layout.dofs[col];
@@ -439,70 +544,198 @@ void fade_corrections(motion_texton<T>& out, const clip<T>& c, const clip<T>* tu
 
 }  // namespace detail
 
+namespace detail {
+
+/// Where seam i of the loop lies before it is cut: clip i's frames
+/// a_first.. over the next clip's frames b_first.., and the turn the next
+/// clip needs to meet clip i's heading there.
+template <class T>
+struct texton_seam_place {
+    overlap_search_result<T> search;
+    std::size_t a_first = 0, b_first = 0;
+    T turn = T(0);
+};
+
+/// Searches every junction of the loop (clip i's M2 over clip i+1's M1)
+/// for its overlap of least summed distance, and its heading turn.
+template <class T, class Distance>
+std::vector<texton_seam_place<T>> place_texton_seams(
+    const std::vector<const clip<T>*>& clips, const std::vector<Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>>& x,
+    const Distance& distance, const texton_params<T>& params, bool align, const Eigen::Matrix<T, 3, 1>& up_vec) {
+    const std::size_t K = clips.size(), m = params.m, n = params.overlap;
+    const auto M = static_cast<Eigen::Index>(m);
+    std::vector<texton_seam_place<T>> place(K);
+    for (std::size_t i = 0; i < K; ++i) {
+        const std::size_t next = (i + 1) % K, F = clips[i]->frames();
+        // One clip: a loop at least min_frames long; several: every loop is.
+        const std::ptrdiff_t min_shift =
+            K == 1 ? texton_min_shift(F, params) : std::numeric_limits<std::ptrdiff_t>::min();
+        place[i].search = search_overlap(frame_pair_costs(x[i].bottomRows(M), x[next].topRows(M), distance), n, min_shift);
+        place[i].a_first = F - m + place[i].search.first_a;
+        place[i].b_first = place[i].search.first_b;
+        if (align)
+            place[i].turn = overlap_heading_turn(*clips[i], place[i].a_first, *clips[next], place[i].b_first, n, up_vec);
+    }
+    return place;
+}
+
+/// The seams into `out`: the last (the one that closes the loop) in its
+/// own fields, the others as joins.
+template <class T>
+void record_texton_seams(motion_texton<T>& out, const std::vector<texton_seam_place<T>>& place,
+                         std::vector<seam_cut_result<T>> cuts, const std::vector<std::size_t>& starts) {
+    const std::size_t K = place.size();
+    for (std::size_t i = 0; i + 1 < K; ++i) {
+        texton_join<T> join;
+        join.from = i;
+        join.to = i + 1;
+        join.offset_a = place[i].search.first_a;
+        join.offset_b = place[i].search.first_b;
+        join.overlap_start = starts[i];
+        join.overlap = out.overlap;
+        join.blend_frames = out.blend_frames;
+        join.heading_turn = place[i].turn;
+        join.search_cost = place[i].search.cost;
+        join.cut = std::move(cuts[i]);
+        out.joins.push_back(std::move(join));
+    }
+    const auto& last = place.back();
+    out.offset_m2 = last.search.first_a;
+    out.offset_m1 = last.search.first_b;
+    out.search_cost = last.search.cost;
+    out.search_costs = last.search.costs;
+    out.overlap_start = starts.back();
+    out.cut = std::move(cuts.back());
+}
+
+/// The texton of a loop through `clips` (one clip: the paper's texton).
+template <class T>
+motion_texton<T> make_texton_of(const std::vector<const clip<T>*>& clips, const texton_params<T>& params) {
+    using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    check_texton_clips(clips, params);
+    const std::size_t K = clips.size(), m = params.m, n = params.overlap;
+    stopwatch clock;
+    motion_texton<T> out;
+    out.m = m;
+    out.overlap = n;
+    out.clips = K;
+    const clip<T>& c0 = *clips[0];
+    const auto& sk = c0.skeleton();
+    const signed_axis up = params.up ? *params.up : guess_up_axis(sk).up;
+    const Eigen::Matrix<T, 3, 1> up_vec = axis_vector<T>(up);
+    const int up_k = static_cast<int>(up.axis);
+    const bool align = params.align_heading && sk.has_rotation_channels(0);
+
+    // Features, and the rows of the cut: one per 3-column block of the layout.
+    // One layout for every clip: rotations from their common mean, so
+    // that the features of different clips compare.
+    out.layout = dof_layout_of(clips, dof_reference::mean);
+    std::vector<matrix> x;
+    for (const clip<T>* c : clips) x.push_back(texton_features(*c, out.layout, up, align));
+    for (std::size_t col = 0; col < out.layout.size(); col += 3) {
+        out.row_joint.push_back(out.layout.dofs[col].joint);
+        out.row_rotation.push_back(out.layout.dofs[col].type == dof::kind::rotation);
+    }
+    const auto distance = make_frame_distance(x, c0.frame_time(), params.distance);
+    const Eigen::Matrix<T, Eigen::Dynamic, 1> weights =
+        distance.metric == frame_metric::mahalanobis ? distance.precision
+                                                     : Eigen::Matrix<T, Eigen::Dynamic, 1>::Ones(x[0].cols());
+    out.timings.features = clock.lap();
+
+    // The seams' offsets; side[i] is clip i as shown, turned by the seams
+    // before it, and side[K] clip 0 again after the last seam.
+    const auto place = place_texton_seams(clips, x, distance, params, align, up_vec);
+    std::vector<std::optional<clip<T>>> turned(K + 1);
+    std::vector<const clip<T>*> side(K + 1);
+    for (std::size_t i = 0; i <= K; ++i) {
+        if (i > 0) out.heading_turn += place[i - 1].turn;
+        if (out.heading_turn != T(0)) turned[i] = turned_about_up(*clips[i % K], out.heading_turn, up_vec);
+        side[i] = turned[i] ? &*turned[i] : clips[i % K];
+    }
+    out.timings.search = clock.lap();
+
+    // The per-row seams.
+    const auto neighbours = texton_neighbours(sk, out.row_joint, out.row_rotation);
+    const auto N = static_cast<Eigen::Index>(n);
+    std::vector<seam_cut_result<T>> cuts;
+    for (std::size_t i = 0; i < K; ++i) {
+        const seam_cost<T> cost(x[i].middleRows(static_cast<Eigen::Index>(place[i].a_first), N),
+                                x[(i + 1) % K].middleRows(static_cast<Eigen::Index>(place[i].b_first), N), 3, weights,
+                                params.cut.cost);
+        cuts.push_back(cut_seams(cost, neighbours, params.cut.neighbour_weight));
+    }
+    out.timings.cut = clock.lap();
+
+    // Assembly with the fades of values, then of velocities.
+    out.blend_frames = blend_frames(params.blend, n);
+    std::vector<matrix> alpha;
+    for (const auto& cut : cuts) alpha.push_back(blend_weights<T>(cut.seam, n, out.blend_frames));
+    std::vector<texton_piece<T>> pieces{{side[0], m, nullptr, 0, nullptr, place[0].a_first - m}};
+    std::vector<std::size_t> starts(K);
+    std::size_t length = pieces[0].length;
+    for (std::size_t i = 0; i < K; ++i) {
+        starts[i] = length;
+        pieces.push_back({side[i], place[i].a_first, side[i + 1], place[i].b_first, &alpha[i], n});
+        const std::size_t from = place[i].b_first + n, to = i + 1 < K ? place[i + 1].a_first : m;
+        pieces.push_back({side[i + 1], from, nullptr, 0, nullptr, to - from});
+        length += n + to - from;
+    }
+    if (length < params.min_frames)
+        throw invalid_argument("anima::make_texton: the loop through the " + std::to_string(K) + " clips is " +
+                               std::to_string(length) + " frames, shorter than min_frames = " +
+                               std::to_string(params.min_frames));
+    assemble_texton(out, pieces, up_k);
+    std::vector<matrix> raws;
+    raws.reserve(K + 1);
+    std::vector<const matrix*> raw(K + 1);
+    for (std::size_t i = 0; i <= K; ++i) {
+        if (i == K && side[K] == side[0]) {
+            raw[K] = raw[0];
+            continue;
+        }
+        raws.push_back(to_dof_matrix(*side[i], out.layout));
+        raw[i] = &raws.back();
+    }
+    std::vector<fade_seam<T>> fades;
+    for (std::size_t i = 0; i < K; ++i)
+        fades.push_back({raw[i], raw[i + 1], place[i].a_first, place[i].b_first, starts[i], &cuts[i].seam, &alpha[i]});
+    fade_corrections(out, fades, up_k);
+    record_texton_seams(out, place, std::move(cuts), starts);
+    out.source_speeds = clip_speed_limits(c0);
+    for (std::size_t i = 1; i < K; ++i) {
+        const auto s = clip_speed_limits(*clips[i]);
+        for (std::size_t j = 0; j < s.joint.size(); ++j) out.source_speeds.joint[j] = std::max(out.source_speeds.joint[j], s.joint[j]);
+        out.source_speeds.root = std::max(out.source_speeds.root, s.root);
+    }
+    out.timings.blend = clock.lap();
+    out.timings.total = out.timings.features + out.timings.search + out.timings.cut + out.timings.blend;
+    return out;
+}
+
+}  // namespace detail
+
 /// Builds the texton of a clip. Throws anima::invalid_argument for a clip
 /// without joints, an overlap below 2 or above m, or m above half the
 /// clip's frames (M1 and M2 must not share frames; fit_texton_lengths
 /// shrinks m for short clips), or bad distance or cut parameters.
 template <class T>
 motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = {}) {
-    using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
-    detail::check_texton_params(c, params);
-    const std::size_t F = c.frames(), m = params.m, n = params.overlap;
-    stopwatch clock;
-    motion_texton<T> out;
-    out.m = m;
-    out.overlap = n;
-    const auto& sk = c.skeleton();
-    const signed_axis up = params.up ? *params.up : guess_up_axis(sk).up;
-    const Eigen::Matrix<T, 3, 1> up_vec = axis_vector<T>(up);
-    const bool align = params.align_heading && sk.has_rotation_channels(0);
+    return detail::make_texton_of(std::vector<const clip<T>*>{&c}, params);
+}
 
-    // Features, and the rows of the cut: one per 3-column block of the layout.
-    out.layout = make_dof_layout(c);
-    const matrix x = detail::texton_features(c, out.layout, up, align);
-    for (std::size_t col = 0; col < out.layout.size(); col += 3) {
-        out.row_joint.push_back(out.layout.dofs[col].joint);
-        out.row_rotation.push_back(out.layout.dofs[col].type == dof::kind::rotation);
-    }
-    const auto distance = make_frame_distance(x, c.frame_time(), params.distance);
-    const Eigen::Matrix<T, Eigen::Dynamic, 1> weights =
-        distance.metric == frame_metric::mahalanobis ? distance.precision
-                                                     : Eigen::Matrix<T, Eigen::Dynamic, 1>::Ones(x.cols());
-    const auto M = static_cast<Eigen::Index>(m), N = static_cast<Eigen::Index>(n);
-    const Eigen::Index m2_first = static_cast<Eigen::Index>(F) - M;
-    out.timings.features = clock.lap();
-
-    // The (i, j) loop: where M2 and M1 overlap best; M1's side turned to M2's heading.
-    const auto search = search_overlap(frame_pair_costs(x.middleRows(m2_first, M), x.topRows(M), distance), n,
-                                       detail::texton_min_shift(F, params));
-    out.offset_m2 = search.first_a;
-    out.offset_m1 = search.first_b;
-    out.search_cost = search.cost;
-    out.search_costs = search.costs;
-    const std::size_t a_first = static_cast<std::size_t>(m2_first) + out.offset_m2, b_first = out.offset_m1;
-    if (align) out.heading_turn = detail::overlap_heading_turn(c, a_first, b_first, n, up_vec);
-    std::optional<clip<T>> turned;
-    if (out.heading_turn != T(0)) turned = detail::turned_about_up(c, out.heading_turn, up_vec);
-    const clip<T>& cb = turned ? *turned : c;
-    out.timings.search = clock.lap();
-
-    // The per-row seams.
-    const seam_cost<T> cost(x.middleRows(static_cast<Eigen::Index>(a_first), N),
-                            x.middleRows(static_cast<Eigen::Index>(b_first), N), 3, weights, params.cut.cost);
-    out.cut = cut_seams(cost, detail::texton_neighbours(sk, out.row_joint, out.row_rotation), params.cut.neighbour_weight);
-    out.timings.cut = clock.lap();
-
-    // Assembly with the fades of values, then of velocities.
-    out.blend_frames = blend_frames(params.blend, n);
-    const matrix alpha = blend_weights<T>(out.cut.seam, n, out.blend_frames);
-    out.overlap_start = F - 2 * m + out.offset_m2;
-    const int up_k = static_cast<int>(up.axis);
-    detail::assemble_texton(out, c, cb, alpha, a_first, b_first, up_k);
-    detail::fade_corrections(out, c, turned ? &*turned : nullptr, alpha, a_first, b_first, up_k);
-    out.source_speeds = clip_speed_limits(c);
-    out.timings.blend = clock.lap();
-    out.timings.total = out.timings.features + out.timings.search + out.timings.cut + out.timings.blend;
-    return out;
+/// Builds a texton that loops through several clips of one skeleton, in
+/// the order given: clip i's M2 laid over clip i+1's M1 and the last
+/// clip's over the first's, every seam found, cut and faded as the one of a
+/// single clip (see the top of this file); m and the overlap are the same
+/// for every clip. Throws anima::invalid_argument, naming the clip, for no
+/// clips, clips whose hierarchies (joint names, parents, position
+/// channels) or frame times differ from the first's, and everything the
+/// texton of each clip alone would refuse.
+template <class T>
+motion_texton<T> make_texton(const std::vector<clip<T>>& clips, const texton_params<T>& params = {}) {
+    std::vector<const clip<T>*> pointers;
+    for (const clip<T>& c : clips) pointers.push_back(&c);
+    return detail::make_texton_of(pointers, params);
 }
 
 }  // namespace anima
