@@ -266,6 +266,41 @@ TEST_CASE_TEMPLATE("singular and unreachable: stretched arm, target out of reach
     CHECK(u.max_position_error < T(1.1) * (away[0].position.norm() - reach));
 }
 
+TEST_CASE_TEMPLATE("every solver's attempts: a solved start is kept, restarts only while the goals are missed", T, double,
+                   float) {
+    // The attempts loop all five solvers share (detail::solve_with_attempts).
+    const auto arm = anima_ik_test::seven_dof_arm<T>();
+    random_source rng(7);
+    const ik_vector<T> start = random_q(arm, rng);
+    const vec3<T> there = anima_ik_test::point_at(arm, start, 6, anima_ik_test::arm_tip<T>());
+    std::vector<ik_goal<T>> met{position_goal<T>(6, there, anima_ik_test::arm_tip<T>())};
+    std::vector<ik_goal<T>> far{position_goal<T>(6, vec3<T>(T(3), T(1), T(2)), anima_ik_test::arm_tip<T>())};
+    auto p = arm_params<T>();
+    p.restarts = 3;
+    p.max_iterations = 30;
+    for (const ik_solver solver : ik_solvers) {
+        CAPTURE(to_string(solver));
+        // The start meets the goal: one attempt, no iteration, the start itself.
+        const auto kept = solve_ik_with(solver, arm, met, start, p);
+        CHECK(kept.converged());
+        CHECK(kept.attempts == 1);
+        CHECK(kept.iterations == 0);
+        CHECK(kept.q == arm.clamp(start));
+        // Out of reach: every restart is taken, and the best pose is no
+        // worse than the start.
+        const auto missed = solve_ik_with(solver, arm, far, start, p);
+        CHECK(!missed.converged());
+        CHECK(missed.attempts == p.restarts + 1);
+        CHECK(missed.iterations > 0);
+        CHECK(missed.q.allFinite());
+        CHECK(missed.max_position_error <=
+              (anima_ik_test::point_at(arm, start, 6, anima_ik_test::arm_tip<T>()) - far[0].position).norm());
+        CHECK(missed.max_position_error >= far[0].position.norm() - T(1.2) - T(1e-4));
+        // The same seed, the same restarts.
+        CHECK(solve_ik_with(solver, arm, far, start, p).q == missed.q);
+    }
+}
+
 TEST_CASE_TEMPLATE("joint limits are held inside the solve and never violated", T, double, float) {
     auto arm = anima_ik_test::seven_dof_arm<T>();
     for (int i = 0; i < 7; ++i) arm.set_hinge(static_cast<std::size_t>(i), vec3<T>::Unit(anima_ik_test::arm_axis(i)), T(-0.4), T(0.4));

@@ -70,24 +70,15 @@ ik_result<T> solve_ik_ccd(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>
     ik_state<T> s;
     ik_vector<T> r;
     std::vector<goal_error<T>> errors;
-    random_source rng(params.seed);
-    ik_result<T> best;
-    best.q = params.limits ? tree.clamp(q0) : q0;
-    T best_score = std::numeric_limits<T>::infinity();
-    bool stationary = false;
-
-    for (int attempt = 0; attempt <= params.restarts; ++attempt) {
-        ik_vector<T> q = attempt == 0 ? best.q : detail::random_pose(tree, q0, rng);
-        ++best.attempts;
+    return detail::solve_with_attempts(tree, goals, ik_vector<T>(q0), params, [&](ik_vector<T> q, ik_result<T>& best,
+                                                                                   T& best_score) {
         detail::attempt_progress<T> progress;
         for (int it = 0;; ++it) {
             tree.forward_unchecked(q, s);
             goal_residual(s, goals, r, &errors);
             if (progress.finished(detail::summarise(errors, params).score, it, params.max_iterations, q, best_score,
-                                  best.q)) {
-                stationary = stationary || progress.stalled;
+                                  best.q))
                 break;
-            }
             ++best.iterations;
             for (const auto& g : goals) {
                 for (int j = static_cast<int>(g.joint); j != -1; j = sk[static_cast<std::size_t>(j)].parent) {
@@ -123,13 +114,8 @@ ik_result<T> solve_ik_ccd(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>
                 }
             }
         }
-        if (best_score <= T(1)) break;
-    }
-    evaluate_ik(tree, goals, best);
-    best.status = best_score <= T(1) ? ik_status::converged
-                  : stationary       ? ik_status::unreachable_closest
-                                     : ik_status::max_iterations;
-    return best;
+        return detail::attempt_end{progress.stalled, false};
+    });
 }
 
 }  // namespace anima

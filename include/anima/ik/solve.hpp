@@ -204,6 +204,47 @@ void evaluate_ik(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& g
     }
 }
 
+namespace detail {
+
+/// How an attempt ended, beyond the best pose it left.
+struct attempt_end {
+    bool stalled = false;   ///< stopped without progress: a local minimum, or an unreachable target's closest pose
+    bool singular = false;  ///< the step rule met a singular Jacobian: no other start does better
+};
+
+/// The attempts every solver makes: the first from q0 (clamped when
+/// params.limits), then, while the goals are not met, up to params.restarts
+/// more from random poses (random_pose about q0, seeded by params.seed).
+/// attempt(start, best, best_score) runs one attempt: it keeps the best
+/// pose it sees in best.q and its score (summarise's, at most 1 when every
+/// goal is met) in best_score, adds its iterations to best.iterations, and
+/// says how it ended. The errors and status are set at the end.
+template <class T, class Attempt>
+ik_result<T> solve_with_attempts(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
+                                 const ik_vector<T>& q0, const ik_params<T>& params, Attempt&& attempt) {
+    random_source rng(params.seed);
+    ik_result<T> best;
+    best.q = params.limits ? tree.clamp(q0) : q0;
+    T best_score = std::numeric_limits<T>::infinity();
+    attempt_end ended;
+    for (int a = 0; a <= params.restarts; ++a) {
+        const ik_vector<T> start = a == 0 ? best.q : random_pose(tree, q0, rng);
+        ++best.attempts;
+        const attempt_end end = attempt(start, best, best_score);
+        ended.stalled = ended.stalled || end.stalled;
+        ended.singular = ended.singular || end.singular;
+        if (best_score <= T(1) || ended.singular) break;
+    }
+    evaluate_ik(tree, goals, best);
+    best.status = best_score <= T(1) ? ik_status::converged
+                  : ended.singular   ? ik_status::singular
+                  : ended.stalled    ? ik_status::unreachable_closest
+                                     : ik_status::max_iterations;
+    return best;
+}
+
+}  // namespace detail
+
 /// Solves for q moving every goal to its target, from q0, with the step
 /// rule `rule` (jacobian_inverse, pseudo_inverse, damped_least_squares,
 /// weighted_rule<...> or any callable of that shape). Throws
@@ -223,25 +264,18 @@ ik_result<T> solve_ik(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goa
     ik_matrix<T> jac, jm;
     std::vector<goal_error<T>> errors;
     ik_step_info<T> info;
-    random_source rng(params.seed);
     const auto clamps = detail::residual_clamps(tree, goals, params);
 
-    ik_result<T> best;
-    best.q = params.limits ? tree.clamp(q0) : q0;
-    T best_score = std::numeric_limits<T>::infinity();
-    bool singular = false, stationary = false;
-
-    for (int attempt = 0; attempt <= params.restarts; ++attempt) {
-        ik_vector<T> q = attempt == 0 ? best.q : detail::random_pose(tree, q0, rng);
-        if (params.limits) q = tree.clamp(q);
-        ++best.attempts;
+    return detail::solve_with_attempts(tree, goals, ik_vector<T>(q0), params, [&](ik_vector<T> q, ik_result<T>& best,
+                                                                                   T& best_score) {
+        detail::attempt_end end;
         detail::attempt_progress<T> progress;
         for (int it = 0;; ++it) {
             tree.forward_unchecked(q, s);
             goal_residual(s, goals, r, &errors);
             if (progress.finished(detail::summarise(errors, params).score, it, params.max_iterations, q, best_score,
                                   best.q)) {
-                stationary = stationary || progress.stalled;
+                end.stalled = progress.stalled;
                 break;
             }
             ++best.iterations;
@@ -255,7 +289,7 @@ ik_result<T> solve_ik(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goa
             for (int pass = 0; pass < 4; ++pass) {
                 info = ik_step_info<T>{};
                 rule(jm, r, dq, info);
-                if (info.singular && !info.singular_values.size() && dq.isZero()) singular = true;
+                if (info.singular && !info.singular_values.size() && dq.isZero()) end.singular = true;
                 dq *= params.step_scale;
                 if (use_null) {
                     z = params.null_space.gain * (params.null_space.reference - q);
@@ -296,17 +330,10 @@ ik_result<T> solve_ik(const kinematic_tree<T>& tree, std::vector<ik_goal<T>> goa
             tree.wrap(q);
             best.singular_values = info.singular_values;
             best.damping = info.damping;
-            if (singular) break;
+            if (end.singular) break;
         }
-        if (best_score <= T(1) || singular) break;
-    }
-
-    evaluate_ik(tree, goals, best);
-    if (best_score <= T(1)) best.status = ik_status::converged;
-    else if (singular) best.status = ik_status::singular;
-    else if (stationary) best.status = ik_status::unreachable_closest;
-    else best.status = ik_status::max_iterations;
-    return best;
+        return end;
+    });
 }
 
 }  // namespace anima

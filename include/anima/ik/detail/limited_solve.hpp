@@ -1,9 +1,9 @@
 // What the optimisation-based IK solvers (BFGS, Levenberg-Marquardt) share:
 // joint limits by a smooth reparametrisation, the goal-tolerance stopping
-// value, and the attempts loop with random restarts.
+// value, and their attempts (solve_with_attempts of solve.hpp, as every
+// solver's) with a polish.
 #pragma once
 
-#include <anima/core/random.hpp>
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>
 #include <anima/ik/solve.hpp>
@@ -85,34 +85,37 @@ auto pseudo_inverse_polish(const kinematic_tree<T>& tree, const std::vector<ik_g
     };
 }
 
-/// Runs `attempt(u0) -> optimize_result<T>` from q0, then from random poses
-/// while the goals are not met, and keeps the best pose. An attempt that
-/// ends outside the tolerances is polished by `polish(q) -> ik_result<T>`
-/// (ignored when its errors are empty), e.g. pseudo_inverse_polish: near a limit the
-/// sine reparametrisation flattens the objective (dq/du -> 0) and the
-/// optimiser crawls, where the Newton step with the DOF's column removed
-/// converges at once.
+/// solve_with_attempts with attempts `attempt(u0) -> optimize_result<T>`
+/// in the sine parameters; a start that meets the goals already is kept as
+/// it is. An attempt that ends outside the tolerances is polished by
+/// `polish(q) -> ik_result<T>` (ignored when its errors are empty), e.g.
+/// pseudo_inverse_polish: near a limit the sine reparametrisation flattens
+/// the objective (dq/du -> 0) and the optimiser crawls, where the Newton
+/// step with the DOF's column removed converges at once.
 template <class T, class Attempt, class Polish>
 ik_result<T> solve_with_restarts(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
                                  const ik_vector<T>& q0, const ik_params<T>& params, const sine_limits<T>& limits,
                                  Attempt&& attempt, Polish&& polish) {
-    random_source rng(params.seed);
-    ik_result<T> best;
-    best.q = params.limits ? tree.clamp(q0) : q0;
-    evaluate_ik(tree, goals, best);
-    T best_score = summarise(best.errors, params).score;
-    bool stalled = false;
-    for (int a = 0; a <= params.restarts && best_score > T(1); ++a) {
-        ++best.attempts;
-        const ik_vector<T> start = a == 0 ? best.q : random_pose(tree, q0, rng);
+    return solve_with_attempts(tree, goals, q0, params, [&](const ik_vector<T>& start, ik_result<T>& best, T& best_score) {
+        attempt_end end;
+        ik_result<T> trial;
+        trial.q = start;
+        evaluate_ik(tree, goals, trial);
+        T score = summarise(trial.errors, params).score;
+        const auto keep = [&] {
+            if (score >= best_score) return;
+            best_score = score;
+            best.q = trial.q;
+        };
+        keep();
+        if (score <= T(1)) return end;
         const optimize_result<T> res = attempt(limits.to_u(start));
         best.iterations += res.iterations;
-        ik_result<T> trial;
         trial.q = limits.to_q(res.x);
         if (params.limits) trial.q = tree.clamp(trial.q);
         tree.wrap(trial.q);
         evaluate_ik(tree, goals, trial);
-        T score = summarise(trial.errors, params).score;
+        score = summarise(trial.errors, params).score;
         if (score > T(1)) {
             ik_result<T> p = polish(trial.q);
             best.iterations += p.iterations;
@@ -121,22 +124,13 @@ ik_result<T> solve_with_restarts(const kinematic_tree<T>& tree, const std::vecto
                 if (polished < score) {
                     score = polished;
                     trial.q = std::move(p.q);
-                    trial.errors = std::move(p.errors);
                 }
             }
         }
-        stalled = res.status != optimize_status::max_iterations && res.status != optimize_status::stopped;
-        if (score < best_score) {
-            best_score = score;
-            best.q = trial.q;
-            best.errors = trial.errors;
-        }
-    }
-    evaluate_ik(tree, goals, best);
-    best.status = best_score <= T(1) ? ik_status::converged
-                  : stalled         ? ik_status::unreachable_closest
-                                    : ik_status::max_iterations;
-    return best;
+        end.stalled = res.status != optimize_status::max_iterations && res.status != optimize_status::stopped;
+        keep();
+        return end;
+    });
 }
 
 }  // namespace anima::detail
