@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,7 +35,7 @@ struct texture_options {
     std::string output, plot, texton_output, view;
     std::size_t frames = 0, m = 100, overlap = 50, blend = 0, first = 0;
     std::uint64_t seed = 1;
-    std::string capacity = "normalized", metric = "mahalanobis", smoothing = "1d", solver = "multigrid";
+    std::string capacity = "normalized", metric = "mahalanobis", smoothing = "1d", solver = "multigrid", order = "given";
     std::string root = "accumulated", up;
     double neighbour_weight = 0.5, mix_probability = 0.5;
     bool json = false, hard_cut = false, symmetric = false, keep_heading = false, progress = false;
@@ -484,7 +485,25 @@ std::string describe_inputs(const texture_options& o, const std::vector<std::siz
     return out;
 }
 
-void run_texture(const texture_options& o) {
+/// --order least-cost: the clips (and their names and first frames) put in
+/// the order whose loop costs least; the costs of that order and the given one.
+std::pair<double, double> reorder_clips(texture_options& o, std::vector<clip_t>& clips, std::vector<std::size_t>& firsts) {
+    const auto best = anima::least_cost_clip_order(clips, texture_params(o, clips).texton);
+    std::vector<clip_t> ordered_clips;
+    std::vector<std::string> names;
+    std::vector<std::size_t> ordered_firsts;
+    for (const std::size_t i : best.order) {
+        ordered_clips.push_back(std::move(clips[i]));
+        names.push_back(o.inputs[i]);
+        ordered_firsts.push_back(firsts[i]);
+    }
+    clips = std::move(ordered_clips);
+    o.inputs = std::move(names);
+    firsts = std::move(ordered_firsts);
+    return {best.cost, best.given_cost};
+}
+
+void run_texture(texture_options o) {
     check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}, {"--view", &o.view}});
     if (!o.plot.empty()) require_png("--plot");
     if (!o.plot.empty() && o.inputs.size() > 1)
@@ -500,6 +519,8 @@ void run_texture(const texture_options& o) {
         } catch (const anima::invalid_argument& e) {
             throw failure("'" + o.inputs[i] + "' is not of the skeleton of '" + o.inputs[0] + "': " + e.what());
         }
+    std::optional<std::pair<double, double>> order_costs;
+    if (o.order == "least-cost" && clips.size() > 1) order_costs = reorder_clips(o, clips, firsts);
     const clip_t& c = clips[0];
     // The texture, its DOF matrix, the Poisson solve over it and its BVH text.
     check_request_memory(static_cast<double>(o.frames), bytes_per_frame(c.skeleton()),
@@ -537,7 +558,13 @@ void run_texture(const texture_options& o) {
     const double dt = c.frame_time();
     const skate_check skate{anima::clip_foot_skate(clips, up).median, anima::clip_foot_skate(t.motion, up).median};
     if (o.json) {
-        print_json(texture_json(o, firsts, clips, texton, t, check, skate, {read_seconds, write_seconds, seconds_since(start)}));
+        json out = texture_json(o, firsts, clips, texton, t, check, skate, {read_seconds, write_seconds, seconds_since(start)});
+        if (clips.size() > 1)
+            out["order"] = {{"rule", o.order},
+                            {"paths", o.inputs},
+                            {"cost", order_costs ? json(order_costs->first) : json(nullptr)},
+                            {"given_cost", order_costs ? json(order_costs->second) : json(nullptr)}};
+        print_json(out);
         return;
     }
     std::size_t input_frames = 0;
@@ -545,6 +572,9 @@ void run_texture(const texture_options& o) {
     std::cout << "texture of " << describe_inputs(o, firsts, clips) << " (" << input_frames << " at "
               << format_number(c.frame_rate()) << " fps): " << t.motion.frames() << " frames, "
               << format_number(static_cast<double>(t.motion.frames()) * dt, 4) << " s\n";
+    if (order_costs)
+        std::cout << "order of least seam cost: summed overlap distance " << format_number(order_costs->first, 4)
+                  << " (" << format_number(order_costs->second, 4) << " in the order given)\n";
     for (const auto& j : texton.joins)
         std::cout << "join " << file_name(o.inputs[j.from]) << " -> " << file_name(o.inputs[j.to]) << ": M2 frame "
                   << j.offset_a << " over M1 frame " << j.offset_b << ", heading turn "
@@ -619,6 +649,11 @@ void register_texture(CLI::App& app) {
         ->check(count_up_to(max_frames))
         ->capture_default_str();
     sub->add_flag("--hard-cut", opts->hard_cut, "Switch at the seam without a fade");
+    sub->add_option("--order", opts->order,
+                    "Several clips: loop through them in the order given, or in the order whose seams cost least "
+                    "(least-cost: every clip's end searched against every other's start)")
+        ->check(CLI::IsMember({"given", "least-cost"}))
+        ->capture_default_str();
     sub->add_option("--capacity", opts->capacity, "Seam capacity: normalized (Kwatra's M / grad), exponential or plain")
         ->check(CLI::IsMember(anima::enum_name_list<anima::seam_capacity>()))
         ->capture_default_str();

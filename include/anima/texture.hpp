@@ -3,6 +3,7 @@
 // (Eq 10) with Poisson smoothing (Eq 14), and a seam-speed check.
 #pragma once
 
+#include <anima/texture/clip_order.hpp>
 #include <anima/texture/instances.hpp>
 #include <anima/texture/motion_smoothing.hpp>
 #include <anima/texture/motion_texture.hpp>

@@ -4,14 +4,17 @@
 // again; three different clips are laid end to end with every piece in
 // its place and turned to the heading before it; the seams between clips
 // are smoothed and planted like the loop's own; clips that do not fit are
-// refused by name.
+// refused by name; the least-cost order is the brute-force one, and puts
+// shuffled parts of a clip back in recorded order.
 #include "texture_test_support.hpp"
 
 #include <anima/core/error.hpp>
+#include <anima/core/random.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/speed_limits.hpp>
 #include <anima/rotation/quaternion.hpp>
 #include <anima/rotation/swing_twist.hpp>
+#include <anima/texture/clip_order.hpp>
 #include <anima/texture/motion_texture.hpp>
 #include <anima/texture/seam_speed.hpp>
 #include <anima/texture/texton.hpp>
@@ -24,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -224,6 +228,68 @@ TEST_CASE_TEMPLATE("texton of several clips: clips that do not fit are refused b
     p.min_frames = 10000;
     e = invalid_argument_message([&] { anima::make_texton(std::vector<anima::clip<T>>{c, c}, p); });
     CHECK(contains(e, "min_frames = 10000"));
+}
+
+}  // namespace
+
+namespace {
+
+TEST_CASE_TEMPLATE("clip order: Held-Karp finds the brute-force least-cost loop", T, float, double) {
+    anima::random_source rng(11);
+    for (std::size_t n = 1; n <= 8; ++n) {
+        CAPTURE(n);
+        matrix<T> costs(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+        for (Eigen::Index i = 0; i < costs.rows(); ++i)
+            for (Eigen::Index j = 0; j < costs.cols(); ++j) costs(i, j) = i == j ? T(0) : static_cast<T>(rng.uniform());
+        const auto order = anima::detail::least_cost_cycle(costs);
+        REQUIRE(order.size() == n);
+        CHECK(order[0] == 0);
+        std::vector<std::size_t> sorted = order;
+        std::sort(sorted.begin(), sorted.end());
+        for (std::size_t i = 0; i < n; ++i) CHECK(sorted[i] == i);
+        // Every loop from node 0, by brute force.
+        std::vector<std::size_t> p(n);
+        for (std::size_t i = 0; i < n; ++i) p[i] = i;
+        T least = std::numeric_limits<T>::infinity();
+        do least = std::min(least, anima::detail::cycle_cost(costs, p));
+        while (std::next_permutation(p.begin() + 1, p.end()));
+        CHECK(anima::detail::cycle_cost(costs, order) <= least * (T(1) + tolerance<T>(1e-12, 1e-6)));
+    }
+}
+
+TEST_CASE_TEMPLATE("clip order: shuffled overlapping parts of a clip are put back in recorded order", T, float, double) {
+    // Parts A = 0..149, B = 100..249, C = 200..349, D = 300..449 of a walk
+    // of period 37.3 frames: A's last 50 frames are B's first 50, B's last
+    // C's first, C's last D's first; only D -> A is a real seam, and every
+    // other loop has two or more. Given as C, A, D, B, the loop from C must
+    // be C, D, A, B.
+    const auto c = walker<T>(450, 37.3);
+    const std::vector<anima::clip<T>> parts{c.slice(200, 350), c.slice(0, 150), c.slice(300, 450), c.slice(100, 250)};
+    anima::texton_params<T> p;
+    p.m = 50;
+    p.overlap = 25;
+    const auto order = anima::least_cost_clip_order(parts, p);
+    CHECK(order.order == std::vector<std::size_t>{0, 2, 1, 3});
+    CHECK(order.cost < order.given_cost);
+    const T scale = order.costs.sum() / static_cast<T>(12);
+    CHECK(order.costs(0, 2) < T(1e-3) * scale);  // C -> D
+    CHECK(order.costs(1, 3) < T(1e-3) * scale);  // A -> B
+    CHECK(order.costs(3, 0) < T(1e-3) * scale);  // B -> C
+    CHECK(order.costs(2, 1) > T(0.05) * scale);  // D -> A: the one real seam
+    // The texton in that order joins the parts where they coincide.
+    std::vector<anima::clip<T>> ordered;
+    for (const std::size_t i : order.order) ordered.push_back(parts[i]);
+    const auto x = anima::make_texton(ordered, p);
+    REQUIRE(x.joins.size() == 3);
+    CHECK(x.joins[0].search_cost < T(1e-3) * scale);  // C -> D
+    CHECK(x.joins[1].search_cost == order.costs(2, 1));  // D -> A, the search's own cost
+    CHECK(x.joins[2].search_cost < T(1e-3) * scale);  // A -> B
+    CHECK(x.search_cost < T(1e-3) * scale);           // B -> C closes the loop
+    // Refused: clips make_texton refuses, and more than the exact search takes.
+    CHECK(contains(invalid_argument_message([&] { anima::least_cost_clip_order(std::vector<anima::clip<T>>{}, p); }),
+                   "no clips"));
+    const std::vector<anima::clip<T>> many(anima::max_ordered_clips + 1, parts[0]);
+    CHECK(contains(invalid_argument_message([&] { anima::least_cost_clip_order(many, p); }), "at most 16"));
 }
 
 }  // namespace

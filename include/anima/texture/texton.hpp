@@ -579,6 +579,32 @@ std::vector<texton_seam_place<T>> place_texton_seams(
     return place;
 }
 
+/// What the search and the cut compare, for clips that passed
+/// check_texton_clips: one DOF layout for every clip (rotations from their
+/// common mean, so that the features of different clips compare), each
+/// clip's texton_features, and the frame distance with Eq 2's variances
+/// pooled over the clips.
+template <class T>
+struct texton_inputs {
+    signed_axis up;
+    bool align = false;
+    dof_layout<T> layout;
+    std::vector<Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>> x;
+    frame_distance<T> distance;
+};
+
+template <class T>
+texton_inputs<T> texton_inputs_of(const std::vector<const clip<T>*>& clips, const texton_params<T>& params) {
+    texton_inputs<T> in;
+    const auto& sk = clips.front()->skeleton();
+    in.up = params.up ? *params.up : guess_up_axis(sk).up;
+    in.align = params.align_heading && sk.has_rotation_channels(0);
+    in.layout = dof_layout_of(clips, dof_reference::mean);
+    for (const clip<T>* c : clips) in.x.push_back(texton_features(*c, in.layout, in.up, in.align));
+    in.distance = make_frame_distance(in.x, clips.front()->frame_time(), params.distance);
+    return in;
+}
+
 /// The seams into `out`: the last (the one that closes the loop) in its
 /// own fields, the others as joins.
 template <class T>
@@ -621,22 +647,18 @@ motion_texton<T> make_texton_of(const std::vector<const clip<T>*>& clips, const 
     out.clips = K;
     const clip<T>& c0 = *clips[0];
     const auto& sk = c0.skeleton();
-    const signed_axis up = params.up ? *params.up : guess_up_axis(sk).up;
-    const Eigen::Matrix<T, 3, 1> up_vec = axis_vector<T>(up);
-    const int up_k = static_cast<int>(up.axis);
-    const bool align = params.align_heading && sk.has_rotation_channels(0);
-
     // Features, and the rows of the cut: one per 3-column block of the layout.
-    // One layout for every clip: rotations from their common mean, so
-    // that the features of different clips compare.
-    out.layout = dof_layout_of(clips, dof_reference::mean);
-    std::vector<matrix> x;
-    for (const clip<T>* c : clips) x.push_back(texton_features(*c, out.layout, up, align));
+    texton_inputs<T> in = texton_inputs_of(clips, params);
+    const Eigen::Matrix<T, 3, 1> up_vec = axis_vector<T>(in.up);
+    const int up_k = static_cast<int>(in.up.axis);
+    const bool align = in.align;
+    const std::vector<matrix>& x = in.x;
+    const auto& distance = in.distance;
+    out.layout = std::move(in.layout);
     for (std::size_t col = 0; col < out.layout.size(); col += 3) {
         out.row_joint.push_back(out.layout.dofs[col].joint);
         out.row_rotation.push_back(out.layout.dofs[col].type == dof::kind::rotation);
     }
-    const auto distance = make_frame_distance(x, c0.frame_time(), params.distance);
     const Eigen::Matrix<T, Eigen::Dynamic, 1> weights =
         distance.metric == frame_metric::mahalanobis ? distance.precision
                                                      : Eigen::Matrix<T, Eigen::Dynamic, 1>::Ones(x[0].cols());
