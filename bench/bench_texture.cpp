@@ -11,6 +11,9 @@
 //   patch_poisson_1d patching and Poisson smoothing per row (the default)
 //   patch_poisson_2d patching and the paper's 2D Poisson form
 //   pipeline         anima::make_motion_texture (feet planted, the default); counters: each stage's own time (ms)
+//   texton<3 clips>  make_texton of the whole walk as three clips (m = 70, overlap 35): three seams
+//   least_cost_clip_order<3 clips>
+//                    the search for their cheapest order: six junctions' overlap searches
 #include <anima/bvh/reader.hpp>
 #include <anima/motion/dof_view.hpp>
 #include <anima/motion/frame_distance.hpp>
@@ -113,6 +116,34 @@ void texton_stage(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(anima::make_texton(input(), params().texton));
 }
 BENCHMARK(texton_stage)->Name("texton")->Unit(benchmark::kMicrosecond);
+
+// The whole bundled walk (343 frames) as three clips of 140-143 frames:
+// one loop through the three (three seams instead of one), and the search
+// for the order whose seams cost least (all six junctions).
+const std::vector<anima::clip<double>>& three_clips() {
+    static const std::vector<anima::clip<double>> clips = [] {
+        const auto walk = anima::read_bvh<double>(std::string(ANIMA_BENCH_DATA_DIR) + "/walk_cmu31_02_01.bvh");
+        return std::vector<anima::clip<double>>{walk.slice(0, 140), walk.slice(100, 240), walk.slice(200, walk.frames())};
+    }();
+    return clips;
+}
+
+anima::texton_params<double> three_clip_params() {
+    anima::texton_params<double> p;
+    p.m = 70;
+    p.overlap = 35;
+    return p;
+}
+
+void texton_three_clips(benchmark::State& state) {
+    for (auto _ : state) benchmark::DoNotOptimize(anima::make_texton(three_clips(), three_clip_params()));
+}
+BENCHMARK(texton_three_clips)->Name("texton<3 clips>")->Unit(benchmark::kMicrosecond);
+
+void clip_order_three(benchmark::State& state) {
+    for (auto _ : state) benchmark::DoNotOptimize(anima::least_cost_clip_order(three_clips(), three_clip_params()));
+}
+BENCHMARK(clip_order_three)->Name("least_cost_clip_order<3 clips>")->Unit(benchmark::kMicrosecond);
 
 void patch_with(benchmark::State& state, bool smoothing, anima::seam_smoothing_form form) {
     const auto texton = anima::make_texton(input(), params().texton);
