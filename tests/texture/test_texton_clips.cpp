@@ -8,9 +8,11 @@
 // shuffled parts of a clip back in recorded order.
 #include "texture_test_support.hpp"
 
+#include <anima/bvh/reader.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
 #include <anima/motion/clip.hpp>
+#include <anima/motion/contacts.hpp>
 #include <anima/motion/speed_limits.hpp>
 #include <anima/rotation/quaternion.hpp>
 #include <anima/rotation/swing_twist.hpp>
@@ -29,6 +31,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -195,6 +198,40 @@ TEST_CASE_TEMPLATE("texture of several clips: the joins are smoothed and planted
     }
     for (std::size_t f = 0; f < frames; ++f)
         for (std::size_t j = 0; j < t.motion.joints(); ++j) REQUIRE(t.motion.rotation(f, j).coeffs().allFinite());
+}
+
+TEST_CASE_TEMPLATE("texture of two bundled runs of two subjects: seams within their speeds, feet planted", T, float,
+                   double) {
+    // The Daz-layout runs of subjects 9 and 2 without their T-pose and the
+    // frames that swing out of it.
+    const auto a = run<T>();
+    const auto full = anima::read_bvh<T>(bundled("run_cmu_02_03.bvh"));
+    const auto b = full.slice(6, full.frames());
+    const std::vector<anima::clip<T>> runs{a, b};
+    anima::motion_texture_params<T> p;
+    p.texton = anima::fit_texton_lengths(p.texton, std::min(a.frames(), b.frames()));
+    // Planting runs unoptimised in float in this unit, and a sixth of it
+    // under the sanitizers: fewer frames there.
+    const std::size_t frames = anima_test::sanitized_build ? 300 : std::is_same_v<T, float> ? 400 : 1200;
+    const auto t = anima::make_motion_texture(runs, frames, p);
+    REQUIRE(t.motion.frames() == frames);
+    REQUIRE(t.texton.joins.size() == 1);
+    CHECK(t.planted_runs > 0);
+    for (std::size_t f = 0; f < frames; ++f)
+        for (std::size_t j = 0; j < t.motion.joints(); ++j) {
+            REQUIRE(t.motion.rotation(f, j).coeffs().allFinite());
+            REQUIRE(std::abs(t.motion.rotation(f, j).norm() - T(1)) < tolerance<T>(1e-9, 1e-4));
+        }
+    // No seam faster than the faster run; less foot skate than the runs.
+    const auto speeds = anima::seam_speeds(t.motion, t.overlap_spans, t.texton.source_speeds);
+    REQUIRE(speeds.size() >= 2);
+    for (const auto& s : speeds) {
+        CHECK(s.joint_ratio <= T(1.02));
+        CHECK(s.root_ratio <= T(1.02));
+    }
+    const T input_skate = anima::clip_foot_skate(runs).median, output_skate = anima::clip_foot_skate(t.motion).median;
+    MESSAGE("two runs: texture skate / inputs' " << output_skate / input_skate);
+    CHECK(output_skate < input_skate);
 }
 
 TEST_CASE_TEMPLATE("texton of several clips: clips that do not fit are refused by name", T, float, double) {
