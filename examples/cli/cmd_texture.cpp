@@ -87,9 +87,18 @@ struct plot_image {
     int texture_top() const { return strip + panel + gap + strip; }
 };
 
-plot_image make_plot_image(const clip_t& input, const anima::motion_texture<double>& t, anima::signed_axis up) {
+plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motion_texture<double>& t,
+                           anima::signed_axis up) {
     const auto& layout = t.texton.layout;
-    Eigen::MatrixXd a = anima::to_dof_matrix(input, layout), b = anima::to_dof_matrix(t.motion, layout);
+    const clip_t& input = inputs.front();
+    // The inputs one after another.
+    std::size_t n_in = 0;
+    for (const clip_t& c : inputs) n_in += c.frames();
+    Eigen::MatrixXd a(static_cast<Eigen::Index>(n_in), static_cast<Eigen::Index>(layout.size()));
+    for (std::size_t i = 0, row = 0; i < inputs.size(); row += inputs[i].frames(), ++i)
+        a.middleRows(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(inputs[i].frames())) =
+            anima::to_dof_matrix(inputs[i], layout);
+    const Eigen::MatrixXd b = anima::to_dof_matrix(t.motion, layout);
     plot_image img;
     // DOFs that barely move in the input (uncaptured fingers: rounding
     // noise) would show noise stretched to full contrast: left out.
@@ -103,7 +112,7 @@ plot_image make_plot_image(const clip_t& input, const anima::motion_texture<doub
     }
     const auto& shown = img.shown;
     if (shown.empty()) throw failure("--plot: no DOF of the input moves by 2 degrees or more");
-    const std::size_t n_in = input.frames(), n_out = t.motion.frames();
+    const std::size_t n_out = t.motion.frames();
     img.scale = std::min(1.0, 1200.0 / static_cast<double>(n_out));
     const double scale = img.scale;
     img.width = std::max(1, static_cast<int>(std::lround(static_cast<double>(n_out) * scale)));
@@ -139,10 +148,13 @@ plot_image make_plot_image(const clip_t& input, const anima::motion_texture<doub
     const unsigned char green[3] = {40, 160, 70}, blue[3] = {40, 90, 200}, orange[3] = {240, 140, 20}, red[3] = {230, 20, 20};
     const auto x_of = [&](std::size_t frame) { return static_cast<int>(static_cast<double>(frame) * scale); };
     const std::size_t m = t.texton.m;
-    for (int x = x_of(0); x <= x_of(m - 1); ++x)
-        for (int y = 0; y < strip; ++y) put(x, y, green);
-    for (int x = x_of(n_in - m); x <= x_of(n_in - 1); ++x)
-        for (int y = 0; y < strip; ++y) put(x, y, blue);
+    for (std::size_t i = 0, first = 0; i < inputs.size(); first += inputs[i].frames(), ++i) {
+        const std::size_t last = first + inputs[i].frames() - 1;
+        for (int x = x_of(first); x <= x_of(first + m - 1); ++x)
+            for (int y = 0; y < strip; ++y) put(x, y, green);
+        for (int x = x_of(last + 1 - m); x <= x_of(last); ++x)
+            for (int y = 0; y < strip; ++y) put(x, y, blue);
+    }
     for (const auto& [first, last] : t.overlap_spans)
         for (int x = x_of(first); x <= x_of(last); ++x)
             for (int y = 0; y < strip; ++y) put(x, img.texture_top() - strip + y, orange);
@@ -158,8 +170,16 @@ plot_image make_plot_image(const clip_t& input, const anima::motion_texture<doub
 /// The plot as an SVG figure: the image with a title, frame axes (and
 /// seconds), the joints each group of rows belongs to, a colour bar and a
 /// legend of the marks.
-std::string plot_svg(const plot_image& img, const std::string& name, const clip_t& input,
+std::string plot_svg(const plot_image& img, const std::string& name, const std::vector<clip_t>& inputs,
                      const anima::motion_texture<double>& t) {
+    const clip_t& input = inputs.front();
+    const bool several = inputs.size() > 1;
+    std::size_t input_frames = 0;
+    std::string sizes;
+    for (const clip_t& c : inputs) {
+        sizes += (input_frames ? " + " : "") + std::to_string(c.frames());
+        input_frames += c.frames();
+    }
     const double left = 150, right = 200, top = 70, axis = 52;
     const double w = img.width, panel = img.panel, strip = plot_image::strip;
     const double in_top = top, out_top = top + strip + panel + axis;  // each panel's strip
@@ -167,7 +187,7 @@ std::string plot_svg(const plot_image& img, const std::string& name, const clip_
     const double fps = input.frame_rate();
     svg_document svg(width, height, "Motion texture of " + name + ": DOF x frame");
     svg.rect(0, 0, width, height, "#ffffff");
-    svg.text(12, 22, "Motion texture of " + name + ": the input (" + std::to_string(input.frames()) +
+    svg.text(12, 22, "Motion texture of " + name + (several ? ": the inputs one after another (" + sizes : ": the input (" + sizes) +
                          " frames) and the texture (" + std::to_string(t.motion.frames()) + " frames), one row per DOF",
              14, "#222", "start", true);
     svg.text(12, 40, "colour: each DOF's value within its range in the input (rotations in the file's Euler angles, "
@@ -199,9 +219,9 @@ std::string plot_svg(const plot_image& img, const std::string& name, const clip_
                                             format_number(static_cast<double>(frames) / fps, 3) + " s)",
                  11, "#222", "end");
     };
-    svg.text(left, in_top - 6, "input", 12, "#222", "start", true);
+    svg.text(left, in_top - 6, several ? "inputs" : "input", 12, "#222", "start", true);
     svg.text(left, out_top - 6, "texture", 12, "#222", "start", true);
-    frame_axis(in_top + strip + panel, input.frames(), "input");
+    frame_axis(in_top + strip + panel, input_frames, several ? "inputs" : "input");
     frame_axis(out_top + strip + panel, t.motion.frames(), "texture");
     // Joint names at their groups of rows (the rows of one joint are adjacent).
     const auto& layout = t.texton.layout;
@@ -234,8 +254,8 @@ std::string plot_svg(const plot_image& img, const std::string& name, const clip_
     // Legend of the marks.
     const double ly = out_top + strip;
     const std::pair<const char*, std::string> marks[] = {
-        {"rgb(40,160,70)", "M1: first " + std::to_string(t.texton.m) + " frames"},
-        {"rgb(40,90,200)", "M2: last " + std::to_string(t.texton.m) + " frames"},
+        {"rgb(40,160,70)", "M1: first " + std::to_string(t.texton.m) + " frames" + (several ? " of each" : "")},
+        {"rgb(40,90,200)", "M2: last " + std::to_string(t.texton.m) + " frames" + (several ? " of each" : "")},
         {"rgb(240,140,20)", "pass through the overlap"},
         {"rgb(230,20,20)", "graph-cut seam of the row"}};
     for (std::size_t k = 0; k < 4; ++k) {
@@ -246,10 +266,10 @@ std::string plot_svg(const plot_image& img, const std::string& name, const clip_
     return svg.str();
 }
 
-void write_plot(const std::string& path, const clip_t& input, const anima::motion_texture<double>& t,
+void write_plot(const std::string& path, const std::vector<clip_t>& inputs, const anima::motion_texture<double>& t,
                 anima::signed_axis up, const std::string& name) {
-    const plot_image img = make_plot_image(input, t, up);
-    if (is_svg_path(path)) write_text_file(path, plot_svg(img, name, input, t));
+    const plot_image img = make_plot_image(inputs, t, up);
+    if (is_svg_path(path)) write_text_file(path, plot_svg(img, name, inputs, t));
     else write_png(path, img.width, img.height, 3, img.rgb, "--plot");
 }
 
@@ -506,9 +526,6 @@ std::pair<double, double> reorder_clips(texture_options& o, std::vector<clip_t>&
 void run_texture(texture_options o) {
     check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}, {"--view", &o.view}});
     if (!o.plot.empty()) require_png("--plot");
-    if (!o.plot.empty() && o.inputs.size() > 1)
-        throw failure("--plot draws one input against the texture; with " + std::to_string(o.inputs.size()) +
-                      " clips use --view, or leave --plot out");
     const auto start = clock_type::now();
     std::vector<clip_t> clips;
     std::vector<std::size_t> firsts(o.inputs.size());
@@ -545,7 +562,11 @@ void run_texture(texture_options o) {
     write.decimals = decimals;
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(t.motion, write));
     if (!o.texton_output.empty()) write_text_file(o.texton_output, anima::format_bvh(texton.motion, write));
-    if (!o.plot.empty()) write_plot(o.plot, c, t, up, file_name(o.inputs[0]));
+    if (!o.plot.empty()) {
+        std::string name;
+        for (const std::string& input : o.inputs) name += (name.empty() ? "" : " + ") + file_name(input);
+        write_plot(o.plot, clips, t, up, name);
+    }
     std::string page_written;
     if (!o.view.empty()) page_written = write_view_page(o.view, texture_page(o, clips, t));
     const double write_seconds = seconds_since(write_start);

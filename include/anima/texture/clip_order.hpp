@@ -117,7 +117,7 @@ template <class T>
 clip_order<T> least_cost_clip_order(const std::vector<clip<T>>& clips, const texton_params<T>& params = {}) {
     std::vector<const clip<T>*> pointers;
     for (const clip<T>& c : clips) pointers.push_back(&c);
-    detail::check_texton_clips(pointers, params);
+    detail::check_texton_clips(pointers, params, "anima::least_cost_clip_order");
     const std::size_t K = clips.size();
     if (K > max_ordered_clips)
         throw invalid_argument("anima::least_cost_clip_order: " + std::to_string(K) + " clips; the exact search takes at most " +

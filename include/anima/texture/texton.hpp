@@ -293,12 +293,13 @@ void check_texton_params(const clip<T>& c, const texton_params<T>& params, const
                                std::to_string(F - n) + ")");
 }
 
-/// Throws anima::invalid_argument, naming the clip, for no clips, a clip the
-/// texton lengths do not fit, or a clip whose hierarchy or frame time is
-/// not the first clip's.
+/// Throws anima::invalid_argument, naming the function and the clip, for no
+/// clips, a clip the texton lengths do not fit, or a clip whose hierarchy
+/// or frame time is not the first clip's.
 template <class T>
-void check_texton_clips(const std::vector<const clip<T>*>& clips, const texton_params<T>& params) {
-    const std::string who = "anima::make_texton: ";
+void check_texton_clips(const std::vector<const clip<T>*>& clips, const texton_params<T>& params,
+                        const char* function = "anima::make_texton") {
+    const std::string who = std::string(function) + ": ";
     if (clips.empty()) throw invalid_argument(who + "no clips to make a texton of");
     const bool one = clips.size() == 1;
     for (std::size_t i = 0; i < clips.size(); ++i) {
