@@ -580,6 +580,7 @@ void run_texture(texture_options o) {
     const skate_check skate{anima::clip_foot_skate(clips, up).median, anima::clip_foot_skate(t.motion, up).median};
     if (o.json) {
         json out = texture_json(o, firsts, clips, texton, t, check, skate, {read_seconds, write_seconds, seconds_since(start)});
+        if (clips.size() > 1) out["offsets_from"] = o.inputs[0];  // the output uses the first clip's skeleton
         if (clips.size() > 1)
             out["order"] = {{"rule", o.order},
                             {"paths", o.inputs},
@@ -628,7 +629,9 @@ void run_texture(texture_options o) {
               << ", Poisson " << format_number(t.timings.smoothing, 3)
               << (o.plant_feet ? ", planting " + format_number(t.timings.planting, 3) : "") << ", total "
               << format_number(t.timings.total, 3) << "\n";
-    if (!o.output.empty()) std::cout << "wrote " << o.output << '\n';
+    if (!o.output.empty())
+        std::cout << "wrote " << o.output
+                  << (clips.size() > 1 ? " (skeleton and offsets of " + file_name(o.inputs[0]) + ")" : std::string()) << '\n';
     if (!o.texton_output.empty()) std::cout << "wrote " << o.texton_output << " (the texton)\n";
     if (!o.plot.empty())
         std::cout << "wrote " << o.plot << ": input and texture as DOF x frame images, seams in red"

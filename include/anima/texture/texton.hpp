@@ -753,7 +753,8 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
 /// for every clip. Throws anima::invalid_argument, naming the clip, for no
 /// clips, clips whose hierarchies (joint names, parents, position
 /// channels) or frame times differ from the first's, and everything the
-/// texton of each clip alone would refuse.
+/// texton of each clip alone would refuse. The texton has the first clip's
+/// skeleton: its bone lengths, whatever the other clips' are.
 template <class T>
 motion_texton<T> make_texton(const std::vector<clip<T>>& clips, const texton_params<T>& params = {}) {
     std::vector<const clip<T>*> pointers;
