@@ -183,16 +183,22 @@ std::string plot_svg(const plot_image& img, const std::string& name, const std::
     const double left = 150, right = 200, top = 70, axis = 52;
     const double w = img.width, panel = img.panel, strip = plot_image::strip;
     const double in_top = top, out_top = top + strip + panel + axis;  // each panel's strip
-    const double width = left + w + right, height = out_top + strip + panel + axis + 16;
+    const std::string title = "Motion texture of " + name +
+                              (several ? ": the inputs one after another (" + sizes : ": the input (" + sizes) +
+                              " frames) and the texture (" + std::to_string(t.motion.frames()) + " frames), one row per DOF";
+    const std::string caption = std::string("colour: each DOF's value within its range in the ") +
+                                (several ? "inputs" : "input") +
+                                " (rotations in the file's Euler angles, the root's height); still DOFs and the root's "
+                                "ground position left out";
+    // Wide enough for the title and caption too (about 0.6 em a character).
+    const double text_width = 24 + std::max(0.6 * 14 * static_cast<double>(title.size()),
+                                            0.6 * 11 * static_cast<double>(caption.size()));
+    const double width = std::max(left + w + right, text_width), height = out_top + strip + panel + axis + 16;
     const double fps = input.frame_rate();
     svg_document svg(width, height, "Motion texture of " + name + ": DOF x frame");
     svg.rect(0, 0, width, height, "#ffffff");
-    svg.text(12, 22, "Motion texture of " + name + (several ? ": the inputs one after another (" + sizes : ": the input (" + sizes) +
-                         " frames) and the texture (" + std::to_string(t.motion.frames()) + " frames), one row per DOF",
-             14, "#222", "start", true);
-    svg.text(12, 40, "colour: each DOF's value within its range in the input (rotations in the file's Euler angles, "
-                     "the root's height); still DOFs and the root's ground position left out",
-             11, "#555");
+    svg.text(12, 22, title, 14, "#222", "start", true);
+    svg.text(12, 40, caption, 11, "#555");
     const std::string png = png_bytes(img.width, img.height, 3, img.rgb, "--plot");
     // The image holds both panels; drawn once, whole, the axes between.
     const auto texture_pixels = static_cast<double>(img.texture_top() - plot_image::strip);
