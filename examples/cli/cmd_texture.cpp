@@ -529,6 +529,57 @@ std::pair<double, double> reorder_clips(texture_options& o, std::vector<clip_t>&
     return {best.cost, best.given_cost};
 }
 
+/// The text output: inputs and texture, the order and joins, the texton,
+/// its seams, the seam check, symmetric passages, planting and skate, and
+/// the stages' times.
+void print_texture_summary(const texture_options& o, const std::vector<std::size_t>& firsts,
+                           const std::vector<clip_t>& clips, const anima::motion_texton<double>& texton,
+                           const anima::motion_texture<double>& t, const seam_check& check, const skate_check& skate,
+                           const std::optional<std::pair<double, double>>& order_costs) {
+    const clip_t& c = clips[0];
+    const double dt = c.frame_time();
+    std::size_t input_frames = 0;
+    for (const clip_t& clip : clips) input_frames += clip.frames();
+    std::cout << "texture of " << describe_inputs(o, firsts, clips) << " (" << input_frames << " at "
+              << format_number(c.frame_rate()) << " fps): " << t.motion.frames() << " frames, "
+              << format_number(static_cast<double>(t.motion.frames()) * dt, 4) << " s\n";
+    if (order_costs)
+        std::cout << "order of least seam cost: summed overlap distance " << format_number(order_costs->first, 4)
+                  << " (" << format_number(order_costs->second, 4) << " in the order given)\n";
+    for (const auto& j : texton.joins)
+        std::cout << "join " << file_name(o.inputs[j.from]) << " -> " << file_name(o.inputs[j.to]) << ": M2 frame "
+                  << j.offset_a << " over M1 frame " << j.offset_b << ", heading turn "
+                  << format_number(anima::degrees(j.heading_turn), 3) << " deg, cut cost " << format_number(j.cut.cost, 4)
+                  << "\n";
+    std::cout << "texton: m = " << texton.m << ", overlap " << texton.overlap << " (M2 frame " << texton.offset_m2
+              << " over M1 frame " << texton.offset_m1
+              << (clips.size() > 1 ? " of " + file_name(o.inputs.front()) + " to close the loop" : std::string()) << "), "
+              << texton.motion.frames() << " frames, fades of " << texton.blend_frames << " frames, heading turn "
+              << format_number(anima::degrees(texton.heading_turn), 3) << " deg per loop\n";
+    std::size_t lo = texton.overlap, hi = 0;
+    for (std::size_t s : texton.cut.seam) {
+        lo = std::min(lo, s);
+        hi = std::max(hi, s);
+    }
+    std::cout << "seams: " << texton.rows() << " rows switch at overlap frames " << lo << ".." << hi << ", cut cost "
+              << format_number(texton.cut.cost, 4) << " (" << format_number(texton.cut.neighbour_cost, 4)
+              << " between neighbouring joints)\n";
+    std::cout << "seam check over " << check.speeds.size() << " pass" << (check.speeds.size() == 1 ? "" : "es")
+              << " through " << (clips.size() > 1 ? "the overlaps" : "the overlap") << ": joint speed <= "
+              << format_fixed(check.worst_joint, 3) << " x the input's fastest"
+              << (check.worst_joint_name.empty() ? "" : " (" + check.worst_joint_name + ")") << ", root speed <= "
+              << format_fixed(check.worst_root, 3) << " x" << (check.finite ? "" : "; NON-FINITE VALUES") << "\n";
+    if (o.symmetric) std::cout << t.passages << " symmetric passages, " << t.turns.size() << " turns\n";
+    std::cout << (o.plant_feet ? "feet planted in " + std::to_string(t.planted_runs) + " contact runs" : "feet not planted")
+              << "; foot skate " << format_number(skate.output, 3) << " body heights/s"
+              << (skate.input > 0 ? ", " + format_fixed(skate.output / skate.input, 2) + " x the input's" : "") << "\n";
+    std::cout << "stages (s): search " << format_number(t.timings.search, 3) << ", cut " << format_number(t.timings.cut, 3)
+              << ", fades " << format_number(t.timings.blend, 3) << ", patch " << format_number(t.timings.patch, 3)
+              << ", Poisson " << format_number(t.timings.smoothing, 3)
+              << (o.plant_feet ? ", planting " + format_number(t.timings.planting, 3) : "") << ", total "
+              << format_number(t.timings.total, 3) << "\n";
+}
+
 void run_texture(texture_options o) {
     check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}, {"--view", &o.view}});
     if (!o.plot.empty()) require_png("--plot");
@@ -582,7 +633,6 @@ void run_texture(texture_options o) {
         std::cerr << "anima: warning: a Poisson solve stopped at relative residual "
                   << format_number(t.smoothing.relative_residual, 3) << " above its tolerance\n";
 
-    const double dt = c.frame_time();
     const skate_check skate{anima::clip_foot_skate(clips, up).median, anima::clip_foot_skate(t.motion, up).median};
     if (o.json) {
         json out = texture_json(o, firsts, clips, texton, t, check, skate, {read_seconds, write_seconds, seconds_since(start)});
@@ -595,46 +645,7 @@ void run_texture(texture_options o) {
         print_json(out);
         return;
     }
-    std::size_t input_frames = 0;
-    for (const clip_t& clip : clips) input_frames += clip.frames();
-    std::cout << "texture of " << describe_inputs(o, firsts, clips) << " (" << input_frames << " at "
-              << format_number(c.frame_rate()) << " fps): " << t.motion.frames() << " frames, "
-              << format_number(static_cast<double>(t.motion.frames()) * dt, 4) << " s\n";
-    if (order_costs)
-        std::cout << "order of least seam cost: summed overlap distance " << format_number(order_costs->first, 4)
-                  << " (" << format_number(order_costs->second, 4) << " in the order given)\n";
-    for (const auto& j : texton.joins)
-        std::cout << "join " << file_name(o.inputs[j.from]) << " -> " << file_name(o.inputs[j.to]) << ": M2 frame "
-                  << j.offset_a << " over M1 frame " << j.offset_b << ", heading turn "
-                  << format_number(anima::degrees(j.heading_turn), 3) << " deg, cut cost " << format_number(j.cut.cost, 4)
-                  << "\n";
-    std::cout << "texton: m = " << texton.m << ", overlap " << texton.overlap << " (M2 frame " << texton.offset_m2
-              << " over M1 frame " << texton.offset_m1
-              << (clips.size() > 1 ? " of " + file_name(o.inputs.front()) + " to close the loop" : std::string()) << "), "
-              << texton.motion.frames() << " frames, fades of " << texton.blend_frames << " frames, heading turn "
-              << format_number(anima::degrees(texton.heading_turn), 3) << " deg per loop\n";
-    std::size_t lo = texton.overlap, hi = 0;
-    for (std::size_t s : texton.cut.seam) {
-        lo = std::min(lo, s);
-        hi = std::max(hi, s);
-    }
-    std::cout << "seams: " << texton.rows() << " rows switch at overlap frames " << lo << ".." << hi << ", cut cost "
-              << format_number(texton.cut.cost, 4) << " (" << format_number(texton.cut.neighbour_cost, 4)
-              << " between neighbouring joints)\n";
-    std::cout << "seam check over " << check.speeds.size() << " pass" << (check.speeds.size() == 1 ? "" : "es")
-              << " through " << (clips.size() > 1 ? "the overlaps" : "the overlap") << ": joint speed <= "
-              << format_fixed(check.worst_joint, 3) << " x the input's fastest"
-              << (check.worst_joint_name.empty() ? "" : " (" + check.worst_joint_name + ")") << ", root speed <= "
-              << format_fixed(check.worst_root, 3) << " x" << (check.finite ? "" : "; NON-FINITE VALUES") << "\n";
-    if (o.symmetric) std::cout << t.passages << " symmetric passages, " << t.turns.size() << " turns\n";
-    std::cout << (o.plant_feet ? "feet planted in " + std::to_string(t.planted_runs) + " contact runs" : "feet not planted")
-              << "; foot skate " << format_number(skate.output, 3) << " body heights/s"
-              << (skate.input > 0 ? ", " + format_fixed(skate.output / skate.input, 2) + " x the input's" : "") << "\n";
-    std::cout << "stages (s): search " << format_number(t.timings.search, 3) << ", cut " << format_number(t.timings.cut, 3)
-              << ", fades " << format_number(t.timings.blend, 3) << ", patch " << format_number(t.timings.patch, 3)
-              << ", Poisson " << format_number(t.timings.smoothing, 3)
-              << (o.plant_feet ? ", planting " + format_number(t.timings.planting, 3) : "") << ", total "
-              << format_number(t.timings.total, 3) << "\n";
+    print_texture_summary(o, firsts, clips, texton, t, check, skate, order_costs);
     if (!o.output.empty())
         std::cout << "wrote " << o.output
                   << (clips.size() > 1 ? " (skeleton and offsets of " + file_name(o.inputs[0]) + ")" : std::string()) << '\n';
