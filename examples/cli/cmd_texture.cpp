@@ -61,11 +61,13 @@ void colour(double t, unsigned char* rgb) {
 /// Output frames where the stream crosses each row's graph-cut seams.
 std::vector<std::vector<std::size_t>> cut_crossings(const anima::motion_texture<double>& t) {
     std::vector<std::vector<std::size_t>> out(t.texton.rows());
-    const auto seams = t.texton.seams();
+    std::vector<std::vector<std::size_t>> seam_frames(t.texton.rows());
+    for (const auto& seam : t.texton.seams())
+        for (std::size_t r = 0; r < t.texton.rows(); ++r) seam_frames[r].push_back(seam.seam_frame(r));
     for (std::size_t k = 1; k < t.stream.size(); ++k)
         for (std::size_t r = 0; r < t.texton.rows(); ++r)
-            for (const auto& seam : seams) {
-                const std::size_t s = seam.seam_frame(r), p = t.stream[k - 1], q = t.stream[k];
+            for (const std::size_t s : seam_frames[r]) {
+                const std::size_t p = t.stream[k - 1], q = t.stream[k];
                 if ((p + 1 == s && q == s) || (p == s && q + 1 == s)) out[r].push_back(k);
             }
     return out;

@@ -108,17 +108,16 @@ Eigen::Matrix<T, Eigen::Dynamic, 1> velocity_precision(std::size_t parts, Eigen:
     if (samples < 2) return precision;
     // One column at a time: the whole velocity matrix would double the
     // memory a long clip needs.
-    Eigen::Matrix<T, Eigen::Dynamic, 1> variance(cols);
+    Eigen::Matrix<T, Eigen::Dynamic, 1> variance(cols), velocity(static_cast<Eigen::Index>(samples));
     for (Eigen::Index d = 0; d < cols; ++d) {
-        T sum = T(0), squares = T(0);
-        for (int pass = 0; pass < 2; ++pass)
-            for (std::size_t p = 0; p < parts; ++p) {
-                if (part(p).rows() < 2) continue;
-                const Eigen::Matrix<T, Eigen::Dynamic, 1> velocity = time_derivative(part(p).col(d), frame_time);
-                if (pass == 0) sum += velocity.sum();
-                else squares += (velocity.array() - sum / static_cast<T>(samples)).square().sum();
-            }
-        variance[d] = squares / static_cast<T>(samples);
+        Eigen::Index at = 0;
+        for (std::size_t p = 0; p < parts; ++p) {
+            const Eigen::Index n = part(p).rows();
+            if (n < 2) continue;
+            velocity.segment(at, n) = time_derivative(part(p).col(d), frame_time);
+            at += n;
+        }
+        variance[d] = (velocity.array() - velocity.mean()).square().sum() / static_cast<T>(samples);
         if (!std::isfinite(variance[d]))
             throw invalid_argument("anima::velocity_precision: the velocity variance of column " + std::to_string(d) +
                                    " overflows the scalar type; scale the DOFs down");
@@ -156,6 +155,30 @@ Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, 1> velocity_precision(
                                       [&](std::size_t) -> const Derived& { return dofs.derived(); });
 }
 
+namespace detail {
+// make_frame_distance of `parts` motions of `cols` DOFs (part(p) gives one):
+// every argument checked, then Eq 2's weights from their pooled variances.
+template <class T, class PartOf>
+frame_distance<T> frame_distance_of(std::size_t parts, Eigen::Index cols, T frame_time,
+                                    const frame_distance_params<T>& params, const PartOf& part) {
+    const char* who = "anima::make_frame_distance";
+    check_frame_time(frame_time, who);
+    for (std::size_t p = 0; p < parts; ++p) check_finite_dofs(part(p), who);
+    frame_distance<T> d;
+    d.metric = params.metric;
+    d.block_size = params.block_size;
+    if (params.metric == frame_metric::l2) {
+        if (params.block_size < 1 || cols % params.block_size != 0)
+            throw invalid_argument(std::string(who) + ": L2 block size " + std::to_string(params.block_size) +
+                                   " does not divide the " + std::to_string(cols) + " DOFs");
+        return d;
+    }
+    check_regularization(params.regularization, who);
+    d.precision = velocity_precision(parts, cols, frame_time, params.regularization, part);
+    return d;
+}
+}  // namespace detail
+
 /// The distance of `params.metric` for this DOF matrix (frames x DOFs, e.g.
 /// anima::to_dof_matrix or anima::frame_features). Throws
 /// anima::invalid_argument for a non-finite value, a bad frame time, a
@@ -165,22 +188,8 @@ template <class Derived>
 frame_distance<typename Derived::Scalar> make_frame_distance(
     const Eigen::MatrixBase<Derived>& dofs, typename Derived::Scalar frame_time,
     const frame_distance_params<typename Derived::Scalar>& params = {}) {
-    using T = typename Derived::Scalar;
-    detail::check_frame_time(frame_time, "anima::make_frame_distance");
-    detail::check_finite_dofs(dofs, "anima::make_frame_distance");
-    frame_distance<T> d;
-    d.metric = params.metric;
-    d.block_size = params.block_size;
-    if (params.metric == frame_metric::l2) {
-        if (params.block_size < 1 || dofs.cols() % params.block_size != 0)
-            throw invalid_argument("anima::make_frame_distance: L2 block size " + std::to_string(params.block_size) +
-                                   " does not divide the " + std::to_string(dofs.cols()) + " DOFs");
-        return d;
-    }
-    detail::check_regularization(params.regularization, "anima::make_frame_distance");
-    d.precision = detail::velocity_precision(1, dofs.cols(), frame_time, params.regularization,
-                                             [&](std::size_t) -> const Derived& { return dofs.derived(); });
-    return d;
+    return detail::frame_distance_of(1, dofs.cols(), frame_time, params,
+                                     [&](std::size_t) -> const Derived& { return dofs.derived(); });
 }
 
 /// The distance of `params.metric` for frames drawn from several motions
@@ -202,14 +211,10 @@ frame_distance<T> make_frame_distance(const std::vector<Eigen::Matrix<T, Eigen::
             throw invalid_argument(std::string(who) + ": motion " + std::to_string(p) + " has " +
                                    std::to_string(parts[p].cols()) + " DOFs, motion 0 has " +
                                    std::to_string(parts[0].cols()));
-    frame_distance<T> d = make_frame_distance(parts[0], frame_time, params);
-    if (d.metric != frame_metric::mahalanobis || parts.size() == 1) return d;
-    for (std::size_t p = 1; p < parts.size(); ++p) detail::check_finite_dofs(parts[p], who);
-    d.precision = detail::velocity_precision(parts.size(), parts[0].cols(), frame_time, params.regularization,
-                                             [&](std::size_t p) -> const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>& {
-                                                 return parts[p];
-                                             });
-    return d;
+    return detail::frame_distance_of(parts.size(), parts[0].cols(), frame_time, params,
+                                     [&](std::size_t p) -> const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>& {
+                                         return parts[p];
+                                     });
 }
 
 /// The full frames x frames distance matrix (Fig 2 of the paper): O(frames^2)

@@ -186,14 +186,16 @@ void locate_texture_seams(motion_texture<T>& out, const motion_texton<T>& texton
     std::vector<bool> in_overlap(texton.motion.frames(), false);
     for (const auto& s : seams)
         for (std::size_t t = 0; t < s.overlap; ++t) in_overlap[s.overlap_start + t] = true;
+    // Each row's fade centres, once: the stream is long, the seams few.
+    std::vector<std::vector<std::size_t>> centres(rows);
+    for (std::size_t r = 0; r < rows; ++r)
+        for (const auto& seam : seams) centres[r].push_back(seam.blend_centre(r));
     out.row_seams.resize(rows);
     for (std::size_t k = 1; k < frames; ++k) {
         const std::size_t p = out.stream[k - 1], q = out.stream[k];
         for (std::size_t r = 0; r < rows; ++r)
-            for (const auto& seam : seams) {
-                const std::size_t c = seam.blend_centre(r);
+            for (const std::size_t c : centres[r])
                 if ((p + 1 == c && q == c) || (p == c && q + 1 == c)) out.row_seams[r].push_back(k);
-            }
     }
     for (std::size_t k = 0; k < frames; ++k) {
         if (!in_overlap[out.stream[k]]) continue;
