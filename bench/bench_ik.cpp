@@ -15,6 +15,16 @@
 // `success_within_limits` also requires the joints within the chain's limits
 // (LMA does not know them; anima's solvers and NR_JL never leave them).
 // CCD only takes position goals and is timed on the positions alone.
+//
+//   BM_ik_anima_dls_adaptive_into   the adaptive DLS row through solve_ik_into,
+//                        one result and workspace for all targets (the
+//                        game-loop form: no allocation per solve)
+//   BM_clip_ik<whole clip | per frame, into>
+//                        clip-level IK on the bundled CMU walk (31 joints,
+//                        whole-body tree, 90 DOFs): the left hand moved
+//                        11 cm up over frames 10-89, adaptive DLS, warm
+//                        starts; solve_clip_ik on the clip against
+//                        solve_clip_frame_into frame by frame (items: frames)
 
 #include "../tests/ik/ik_test_support.hpp"
 
@@ -32,6 +42,7 @@
 #include <kdl/chainiksolvervel_pinv.hpp>
 #endif
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -166,7 +177,7 @@ void run_anima(benchmark::State& state, bool pose, Solve&& solve) {
     for (auto _ : state) {
         ok = 0;
         for (int i = 0; i < target_count; ++i) {
-            const auto r = solve(p, goals_for(p, i, pose), p.starts[static_cast<std::size_t>(i)]);
+            const auto& r = solve(p, goals_for(p, i, pose), p.starts[static_cast<std::size_t>(i)]);
             ok += r.converged();
             benchmark::DoNotOptimize(r.q.data());
         }
@@ -188,6 +199,18 @@ void BM_ik_anima_dls_adaptive(benchmark::State& state) {
         d.threshold = 0.1 * p.reach;
         d.damping = 0.05 * p.reach;
         return anima::solve_ik(p.tree, g, q0, anima::damped_least_squares<double>(d), params_for(p));
+    });
+}
+void BM_ik_anima_dls_adaptive_into(benchmark::State& state) {
+    anima::ik_result<double> out;
+    anima::ik_workspace<double> ws;
+    run_anima(state, true, [&](const problem& p, const auto& g, const auto& q0) -> const anima::ik_result<double>& {
+        anima::damped_least_squares<double>::params d;
+        d.adaptive = true;
+        d.threshold = 0.1 * p.reach;
+        d.damping = 0.05 * p.reach;
+        anima::solve_ik_into(p.tree, g, q0, anima::damped_least_squares<double>(d), params_for(p), out, ws);
+        return out;
     });
 }
 void BM_ik_anima_bfgs(benchmark::State& state) {
@@ -218,6 +241,69 @@ void BM_ik_anima_ccd_position_only(benchmark::State& state) {
         prm.max_iterations = 300;
         return anima::solve_ik_ccd(p.tree, g, q0, prm);
     });
+}
+
+// Clip-level IK: the walk's left hand 11 cm (2 units) up over frames 10-89.
+struct clip_edit {
+    anima::clip<double> walk;
+    std::vector<anima::frame_goals<double>> goals;
+    anima::clip_ik_params<double> params;
+    anima::damped_least_squares<double> rule;
+};
+
+const clip_edit& hand_edit() {
+    static const clip_edit e = [] {
+        clip_edit c{anima::read_bvh<double>(std::string(ANIMA_BENCH_DATA_DIR) + "/walk_cmu31_02_01.bvh"), {}, {}, {}};
+        const std::size_t hand = c.walk.skeleton().index_of("LeftHand");
+        for (std::size_t f = 10; f < 90; ++f)
+            c.goals.push_back({f,
+                               {anima::position_goal<double>(
+                                   hand, anima::forward_kinematics(c.walk, f).positions[hand] + vec3(0, 2, 0))}});
+        c.params.ik.tolerance = 1e-4;
+        anima::damped_least_squares<double>::params d;
+        d.adaptive = true;
+        c.rule = anima::damped_least_squares<double>(d);
+        return c;
+    }();
+    return e;
+}
+
+void BM_clip_ik_whole(benchmark::State& state) {
+    const clip_edit& e = hand_edit();
+    const anima::kinematic_tree<double> tree(e.walk.skeleton());
+    const auto solve = [&](const anima::kinematic_tree<double>& t, const std::vector<anima::ik_goal<double>>& g,
+                           const anima::ik_vector<double>& start, const anima::ik_params<double>& prm) {
+        return anima::solve_ik(t, g, start, e.rule, prm);
+    };
+    std::size_t converged = 0;
+    for (auto _ : state) {
+        const auto r = anima::solve_clip_ik(tree, e.walk, e.goals, solve, e.params);
+        converged = r.converged_frames;
+        benchmark::DoNotOptimize(r.edited.rotations().data());
+    }
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * e.goals.size()));
+    state.counters["converged"] = static_cast<double>(converged) / static_cast<double>(e.goals.size());
+}
+
+void BM_clip_ik_frame_into(benchmark::State& state) {
+    const clip_edit& e = hand_edit();
+    anima::kinematic_tree<double> tree(e.walk.skeleton());
+    anima::clip<double> edited = e.walk;
+    anima::ik_result<double> out;
+    anima::clip_ik_workspace<double> ws;
+    std::size_t converged = 0;
+    for (auto _ : state) {
+        ws.reset();
+        converged = 0;
+        for (const auto& frame : e.goals) {
+            anima::solve_clip_frame_into(tree, e.walk, frame.frame, frame.goals, e.rule, e.params, out, ws);
+            tree.write_pose(out.q, edited, frame.frame);
+            converged += out.converged();
+        }
+        benchmark::DoNotOptimize(edited.rotations().data());
+    }
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * e.goals.size()));
+    state.counters["converged"] = static_cast<double>(converged) / static_cast<double>(e.goals.size());
 }
 
 #ifdef ANIMA_HAVE_KDL
@@ -284,9 +370,12 @@ BENCHMARK(BM_ik_kdl_nr_jl)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMill
 
 BENCHMARK(BM_ik_anima_pinv)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_dls_adaptive)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ik_anima_dls_adaptive_into)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_bfgs)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_levenberg_marquardt)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_levenberg_marquardt_limits_in_step)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ik_anima_ccd_position_only)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_clip_ik_whole)->Name("BM_clip_ik<whole clip>")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_clip_ik_frame_into)->Name("BM_clip_ik<per frame, into>")->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -3,34 +3,9 @@
 // is compared with, on the bundled CMU clips, the shared ones when present,
 // and synthetic clips built from them.
 
-// Heap allocations are counted around a call: operator new is replaced below,
-// and Eigen, which allocates with malloc, reports each allocation through
-// eigen_assert while EIGEN_RUNTIME_NO_MALLOC forbids them. So this comes
-// before any header that includes Eigen.
-#include <cstdio>
-#include <cstdlib>
-
-namespace heap_count {
-inline bool counting = false;
-inline long allocations = 0;
-// Whether an eigen_assert passes: a refused Eigen allocation while counting is counted instead.
-inline bool eigen_check(bool ok) {
-    if (!ok && counting) ++allocations;
-    return ok || counting;
-}
-// Any other failed eigen_assert stops the test, as Eigen's own would (not under NDEBUG).
-inline void eigen_failed([[maybe_unused]] const char* what, [[maybe_unused]] const char* file,
-                         [[maybe_unused]] int line) {
-#ifndef NDEBUG
-    std::fprintf(stderr, "%s:%d: Eigen assertion failed: %s\n", file, line, what);
-    std::abort();
-#endif
-}
-}  // namespace heap_count
-#define EIGEN_RUNTIME_NO_MALLOC
-#define eigen_assert(x)                                                     \
-    (heap_count::eigen_check(static_cast<bool>(x)) ? static_cast<void>(0) \
-                                                   : heap_count::eigen_failed(#x, __FILE__, __LINE__))
+// Heap allocations are counted around a call: this comes before any header
+// that includes Eigen.
+#include "../heap_count.hpp"
 
 #include <anima/bvh/reader.hpp>
 #include <anima/core/constants.hpp>
@@ -60,28 +35,10 @@ inline void eigen_failed([[maybe_unused]] const char* what, [[maybe_unused]] con
 #include <fstream>
 #include <limits>
 #include <map>
-#include <new>
 #include <optional>
 #include <random>
 #include <string>
 #include <vector>
-
-// Not inlined: GCC would otherwise see free() on the result of operator new and warn.
-#if defined(__GNUC__)
-#define HEAP_COUNT_NOINLINE __attribute__((noinline))
-#else
-#define HEAP_COUNT_NOINLINE
-#endif
-HEAP_COUNT_NOINLINE void* operator new(std::size_t size) {
-    if (heap_count::counting) ++heap_count::allocations;
-    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-    throw std::bad_alloc();
-}
-HEAP_COUNT_NOINLINE void* operator new[](std::size_t size) { return operator new(size); }
-HEAP_COUNT_NOINLINE void operator delete(void* p) noexcept { std::free(p); }
-HEAP_COUNT_NOINLINE void operator delete[](void* p) noexcept { std::free(p); }
-HEAP_COUNT_NOINLINE void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-HEAP_COUNT_NOINLINE void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -1387,17 +1344,7 @@ TEST_CASE("make_transition_into: make_transition's results bit for bit, in doubl
 
 namespace {
 
-// Heap allocations (operator new and Eigen's) made by f.
-template <class F>
-long allocations_in(F&& f) {
-    heap_count::allocations = 0;
-    heap_count::counting = true;
-    Eigen::internal::set_is_malloc_allowed(false);
-    f();
-    Eigen::internal::set_is_malloc_allowed(true);
-    heap_count::counting = false;
-    return heap_count::allocations;
-}
+using heap_count::allocations_in;
 
 template <class T>
 void check_no_allocation(const anima::clip<T>& r) {

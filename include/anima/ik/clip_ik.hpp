@@ -2,13 +2,15 @@
 // warm-started from the solution of the frame before and pulled toward its
 // own recorded pose in the null space, so that an edit (a hand moved over a
 // range, a foot held in place) changes the motion smoothly and no more than
-// the goals ask.
+// the goals ask. solve_clip_ik edits a copy of the clip; solve_clip_frame_into
+// solves one frame at a time into caller-owned storage, for a game loop.
 #pragma once
 
 #include <anima/core/error.hpp>
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>
 #include <anima/ik/solve.hpp>
+#include <anima/ik/step_rules.hpp>
 #include <anima/motion/clip.hpp>
 
 #include <Eigen/Core>
@@ -75,6 +77,84 @@ T max_joint_step(const clip<T>& c, std::size_t first, std::size_t last) {
     return step;
 }
 
+/// What solve_clip_frame_into keeps from frame to frame: the previous
+/// frame's correction for the warm start, and the scratch of the solve.
+/// Keep one per character; reset() before a new, unrelated run of frames.
+template <class T>
+struct clip_ik_workspace {
+    ik_workspace<T> ik;
+    ik_params<T> params;          ///< the frame's: params.ik with the pull toward the recorded pose
+    ik_vector<T> own, start;      ///< the frame's recorded pose; where its solve starts
+    ik_vector<T> correction;      ///< the last solved frame's solution minus its recorded pose
+    ik_vector<T> spare_reference; ///< storage of params.null_space.reference while the pull is off
+    std::size_t last_frame = 0;
+    bool solved_any = false;      ///< last_frame and correction hold a solved frame
+    void reset() { solved_any = false; }
+};
+
+namespace detail {
+
+/// Checks clip_ik_params, naming `who`.
+template <class T>
+void check_clip_ik_params(const clip_ik_params<T>& params, const char* who) {
+    if (!(params.pose_pull >= T(0)) || !std::isfinite(params.pose_pull))
+        throw invalid_argument(std::string(who) + ": pose_pull must be finite and not negative, got " +
+                               std::to_string(static_cast<double>(params.pose_pull)));
+}
+
+/// Bases the tree on frame f of c and sets the frame's solver parameters
+/// and start in ws: the recorded pose, plus the previous frame's correction
+/// when f follows the last solved frame and warm starts are on.
+template <class T>
+void begin_clip_frame(kinematic_tree<T>& tree, const clip<T>& c, std::size_t f, const clip_ik_params<T>& params,
+                      clip_ik_workspace<T>& ws) {
+    tree.set_base(c, f);
+    tree.pose_of(c, f, ws.own);
+    // params.ik copied without giving up the reference's storage.
+    ws.params.null_space.reference.swap(ws.spare_reference);
+    ws.params = params.ik;
+    if (params.pose_pull > T(0)) {
+        ws.params.null_space.gain = params.pose_pull;
+        ws.params.null_space.reference.swap(ws.spare_reference);
+        ws.params.null_space.reference = ws.own;
+    }
+    const bool follows = params.warm_start && ws.solved_any && f == ws.last_frame + 1;
+    if (follows) ws.start = ws.own + ws.correction;
+    else ws.start = ws.own;
+}
+
+/// Records frame f's solution q for the next frame's warm start.
+template <class T>
+void end_clip_frame(std::size_t f, const ik_vector<T>& q, clip_ik_workspace<T>& ws) {
+    ws.correction = q - ws.own;
+    ws.last_frame = f;
+    ws.solved_any = true;
+}
+
+}  // namespace detail
+
+/// One frame of clip IK into caller-owned storage, for a game loop: the
+/// goals of frame f of c solved with the step rule `rule` (solve_ik_into),
+/// started and pulled toward the recording as solve_clip_ik does (warm from
+/// the last frame solved with this workspace when f follows it). The
+/// frame's solution is out.q: write it where it goes with
+/// tree.write_pose(out.q, clip, frame). `tree` must be built on c's
+/// skeleton; it is based on frame f. Frame by frame over a range, the
+/// solutions are solve_clip_ik's with the same rule, bit for bit. Once the
+/// workspace has seen the tree and a goal set of the same sizes, a call
+/// allocates nothing (as solve_ik_into, without restarts).
+template <class T, class Rule>
+void solve_clip_frame_into(kinematic_tree<T>& tree, const clip<T>& c, std::size_t f,
+                           const std::vector<ik_goal<T>>& goals, const Rule& rule, const clip_ik_params<T>& params,
+                           ik_result<T>& out, clip_ik_workspace<T>& ws) {
+    const char* who = "anima::solve_clip_frame_into";
+    detail::check_clip_ik_params(params, who);
+    if (goals.empty()) throw invalid_argument(std::string(who) + ": frame " + std::to_string(f) + " has no goals");
+    detail::begin_clip_frame(tree, c, f, params, ws);
+    solve_ik_into(tree, goals, ws.start, rule, ws.params, out, ws.ik);
+    detail::end_clip_frame(f, out.q, ws);
+}
+
 /// Solves the goals frame by frame on a copy of c and writes each solution
 /// into it. `solve` is any IK solver in the form
 ///   ik_result<T> solve(const kinematic_tree<T>&, const
@@ -89,9 +169,7 @@ clip_ik_result<T> solve_clip_ik(kinematic_tree<T> tree, const clip<T>& c, const 
                                 Solve&& solve, const clip_ik_params<T>& params = {}) {
     const std::string who = "anima::solve_clip_ik";
     if (c.skeleton() != tree.skeleton()) throw invalid_argument(who + ": the clip's skeleton differs from the tree's");
-    if (!(params.pose_pull >= T(0)) || !std::isfinite(params.pose_pull))
-        throw invalid_argument(who + ": pose_pull must be finite and not negative, got " +
-                               std::to_string(static_cast<double>(params.pose_pull)));
+    detail::check_clip_ik_params(params, who.c_str());
     for (std::size_t i = 0; i < goals.size(); ++i) {
         const std::size_t f = goals[i].frame;
         if (f >= c.frames())
@@ -105,22 +183,15 @@ clip_ik_result<T> solve_clip_ik(kinematic_tree<T> tree, const clip<T>& c, const 
     clip_ik_result<T> out{c, {}, {}, 0, T(0), 0, T(0), T(0)};
     if (goals.empty()) return out;
 
-    ik_vector<T> correction;  // the previous frame's solution minus its recorded pose
+    clip_ik_workspace<T> ws;
     for (std::size_t i = 0; i < goals.size(); ++i) {
         const std::size_t f = goals[i].frame;
-        tree.set_base(c, f);
-        const ik_vector<T> own = tree.pose_of(c, f);
-        ik_params<T> p = params.ik;
-        if (params.pose_pull > T(0)) {
-            p.null_space.gain = params.pose_pull;
-            p.null_space.reference = own;
-        }
-        const bool follows = params.warm_start && i > 0 && f == goals[i - 1].frame + 1;
+        detail::begin_clip_frame(tree, c, f, params, ws);
         const kinematic_tree<T>& based = tree;
-        const ik_vector<T> start = follows ? ik_vector<T>(own + correction) : own;
-        ik_result<T> r = solve(based, goals[i].goals, start, static_cast<const ik_params<T>&>(p));
+        ik_result<T> r = solve(based, goals[i].goals, static_cast<const ik_vector<T>&>(ws.start),
+                               static_cast<const ik_params<T>&>(ws.params));
         tree.write_pose(r.q, out.edited, f);
-        correction = r.q - own;
+        detail::end_clip_frame(f, r.q, ws);
         out.converged_frames += r.converged();
         out.largest_error = std::max(out.largest_error, r.max_position_error);
         out.iterations += r.iterations;

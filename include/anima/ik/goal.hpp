@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace anima {
@@ -145,27 +146,29 @@ ik_goal<quat_scalar_t<Q>> pose_goal(std::size_t joint, const Eigen::Matrix<quat_
 /// Checks goals against a tree: joints exist, values finite, weights and
 /// scales positive, orientations non-zero (they are normalised).
 template <class T>
-void check_goals(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>& goals, const std::string& who) {
-    if (goals.empty()) throw invalid_argument(who + ": no goals");
+void check_goals(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>& goals, std::string_view who) {
+    if (goals.empty()) throw invalid_argument(std::string(who) + ": no goals");
+    // The messages are built only on failure: a check that passes allocates nothing.
+    const auto at = [&](std::size_t i) { return std::string(who) + ": goal " + std::to_string(i); };
     for (std::size_t i = 0; i < goals.size(); ++i) {
         auto& g = goals[i];
-        const std::string at = who + ": goal " + std::to_string(i);
         if (g.joint >= tree.skeleton().size())
-            throw invalid_argument(at + ": joint index " + std::to_string(g.joint) + " out of range");
+            throw invalid_argument(at(i) + ": joint index " + std::to_string(g.joint) + " out of range");
         if (!g.offset.allFinite() || !g.position.allFinite() || !g.orientation.coeffs().allFinite())
-            throw invalid_argument(at + " (joint '" + tree.skeleton()[g.joint].name + "'): non-finite target or offset");
+            throw invalid_argument(at(i) + " (joint '" + tree.skeleton()[g.joint].name +
+                                   "'): non-finite target or offset");
         if (!(g.weight > T(0)) || !std::isfinite(g.weight) || !(g.orientation_scale > T(0)) ||
             !std::isfinite(g.orientation_scale))
-            throw invalid_argument(at + ": weight and orientation_scale must be positive and finite, got " +
+            throw invalid_argument(at(i) + ": weight and orientation_scale must be positive and finite, got " +
                                    std::to_string(static_cast<double>(g.weight)) + " and " +
                                    std::to_string(static_cast<double>(g.orientation_scale)));
         const T n = g.orientation.norm();
-        if (!(n > T(0))) throw invalid_argument(at + ": zero orientation quaternion");
+        if (!(n > T(0))) throw invalid_argument(at(i) + ": zero orientation quaternion");
         g.orientation.coeffs() /= n;
         if (g.constrains_direction()) {
             const T dn = g.direction.norm(), an = g.axis.norm();
             if (!(dn > T(0)) || !std::isfinite(dn) || !(an > T(0)) || !std::isfinite(an))
-                throw invalid_argument(at + " (joint '" + tree.skeleton()[g.joint].name +
+                throw invalid_argument(at(i) + " (joint '" + tree.skeleton()[g.joint].name +
                                        "'): the direction (line, normal or aim) and the aim axis must be finite and "
                                        "non-zero");
             g.direction /= dn;

@@ -21,8 +21,10 @@ namespace anima {
 // clang-format off
 ANIMA_IK_INSTANCE plant_feet_result<double> plant_feet(const clip<double>&, const contact_set<double>&, const plant_feet_params<double>&);
 ANIMA_IK_INSTANCE plant_feet_result<double> plant_feet(const clip<double>&, const plant_feet_params<double>&);
-ANIMA_IK_INSTANCE ik_result<double> solve_ik<double, pseudo_inverse<double>>(const kinematic_tree<double>&, std::vector<ik_goal<double>>, const ik_vector_arg<double>&, const pseudo_inverse<double>&, const ik_params<double>&);
-ANIMA_IK_INSTANCE ik_result<double> solve_ik<double, damped_least_squares<double>>(const kinematic_tree<double>&, std::vector<ik_goal<double>>, const ik_vector_arg<double>&, const damped_least_squares<double>&, const ik_params<double>&);
+ANIMA_IK_INSTANCE ik_result<double> solve_ik<double, pseudo_inverse<double>>(const kinematic_tree<double>&, const std::vector<ik_goal<double>>&, const ik_vector_arg<double>&, const pseudo_inverse<double>&, const ik_params<double>&);
+ANIMA_IK_INSTANCE void solve_ik_into<double, pseudo_inverse<double>>(const kinematic_tree<double>&, const std::vector<ik_goal<double>>&, const ik_vector_arg<double>&, const pseudo_inverse<double>&, const ik_params<double>&, ik_result<double>&, ik_workspace<double>&);
+ANIMA_IK_INSTANCE ik_result<double> solve_ik<double, damped_least_squares<double>>(const kinematic_tree<double>&, const std::vector<ik_goal<double>>&, const ik_vector_arg<double>&, const damped_least_squares<double>&, const ik_params<double>&);
+ANIMA_IK_INSTANCE void solve_ik_into<double, damped_least_squares<double>>(const kinematic_tree<double>&, const std::vector<ik_goal<double>>&, const ik_vector_arg<double>&, const damped_least_squares<double>&, const ik_params<double>&, ik_result<double>&, ik_workspace<double>&);
 ANIMA_IK_INSTANCE ik_result<double> solve_ik_ccd<double>(const kinematic_tree<double>&, std::vector<ik_goal<double>>, const ik_vector_arg<double>&, const ik_params<double>&);
 ANIMA_IK_INSTANCE ik_result<double> solve_ik_bfgs<double>(const kinematic_tree<double>&, std::vector<ik_goal<double>>, const ik_vector_arg<double>&, const bfgs_ik_params<double>&);
 ANIMA_IK_INSTANCE ik_result<double> solve_ik_levenberg_marquardt<double>(const kinematic_tree<double>&, std::vector<ik_goal<double>>, const ik_vector_arg<double>&, const levenberg_marquardt_ik_params<double>&);

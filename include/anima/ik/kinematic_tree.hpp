@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace anima {
@@ -171,6 +172,8 @@ public:
         return (q.array() >= lower_dof_.array() - slack).all() && (q.array() <= upper_dof_.array() + slack).all();
     }
     ik_vector<T> clamp(const ik_vector<T>& q) const { return q.cwiseMax(lower_dof_).cwiseMin(upper_dof_); }
+    /// clamp(q) in place, allocating nothing.
+    void clamp_in_place(ik_vector<T>& q) const { q = q.cwiseMax(lower_dof_).cwiseMin(upper_dof_); }
 
     /// Ball joints without limits whose rotation vector has grown past pi
     /// are mapped to the equal rotation of angle below pi (the chart's
@@ -227,12 +230,18 @@ public:
     /// joints the twist angle of their rotation about the axis (a rotation
     /// off the axis cannot be represented and is dropped). Not clamped.
     ik_vector<T> pose_of(const clip<T>& c, std::size_t f) const {
+        ik_vector<T> q;
+        pose_of(c, f, q);
+        return q;
+    }
+    /// pose_of into q, which is resized only when its size differs.
+    void pose_of(const clip<T>& c, std::size_t f, ik_vector<T>& q) const {
         if (c.skeleton() != skeleton_)
             throw invalid_argument("anima::kinematic_tree::pose_of: the clip's skeleton differs from the tree's");
         if (f >= c.frames())
             throw invalid_argument("anima::kinematic_tree::pose_of: frame " + std::to_string(f) + " out of range (" +
                                    std::to_string(c.frames()) + " frames)");
-        ik_vector<T> q = ik_vector<T>::Zero(dofs_);
+        q.setZero(dofs_);  // keeps q's storage when it has the size
         if (root_translation_) q.template head<3>() = c.translation(f, 0);
         for (std::size_t j = 0; j < skeleton_.size(); ++j) {
             const quaternion& r = c.rotation(f, j);
@@ -246,7 +255,6 @@ public:
                 q[first_dof_[j]] = angle;
             }
         }
-        return q;
     }
 
     /// Writes q into frame f of c: moving joints' rotations, the root
@@ -266,13 +274,13 @@ public:
     }
 
     /// Throws anima::invalid_argument unless q has dofs() finite entries.
-    void check_q(const ik_vector<T>& q, const std::string& who) const {
+    void check_q(const ik_vector<T>& q, std::string_view who) const {
         if (q.size() != dofs_)
-            throw invalid_argument(who + ": pose has " + std::to_string(q.size()) + " DOFs, the tree has " +
+            throw invalid_argument(std::string(who) + ": pose has " + std::to_string(q.size()) + " DOFs, the tree has " +
                                    std::to_string(dofs_));
         for (int k = 0; k < dofs_; ++k)
             if (!std::isfinite(q[k]))
-                throw invalid_argument(who + ": DOF " + std::to_string(k) + " (" + dof_name(k) + ") is not finite");
+                throw invalid_argument(std::string(who) + ": DOF " + std::to_string(k) + " (" + dof_name(k) + ") is not finite");
     }
 
     /// True when joint a is b or an ancestor of b.

@@ -5,6 +5,9 @@
 //   pseudo_inverse          dq = J+ e, minimum norm (SVD, small singular values cut)
 //   damped_least_squares    dq = J^T (J J^T + l^2 I)^-1 e, l fixed or adaptive
 //   weighted_rule<Rule>     the rule applied to J W^-1/2, then scaled by W^-1/2 (Komura)
+// Each rule also takes an ik_step_scratch, where it keeps its decomposition
+// and temporaries from call to call: with one, a step of a Jacobian the same
+// size as the last allocates nothing (solve_ik_into's game-loop form).
 #pragma once
 
 #include <anima/core/error.hpp>
@@ -18,6 +21,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 namespace anima {
 
@@ -27,7 +31,41 @@ struct ik_step_info {
     bool singular = false;       ///< the rule could not invert J
     T damping = T(0);            ///< damping used (DLS rules)
     ik_vector<T> singular_values;  ///< of J, when the rule computed them
+    bool decomposed = false;     ///< singular_values are this step's (the rule ran an SVD)
 };
+
+/// What the library's step rules keep from call to call: decompositions
+/// and temporaries sized once for a Jacobian's shape, reused while it stays.
+template <class T>
+struct ik_step_scratch {
+    Eigen::JacobiSVD<ik_matrix<T>> svd;
+    Eigen::LDLT<ik_matrix<T>> ldlt;
+    Eigen::FullPivLU<ik_matrix<T>> lu;
+    ik_matrix<T> product, weighted;  ///< J J^T (DLS); J W^-1/2 (weighted_rule)
+    ik_vector<T> projected, scale;   ///< U^T e or a solve's right side; W^-1/2
+};
+
+namespace detail {
+
+/// dq = V u from the scratch's SVD of J, u_k = scaled(c_k, s_k) for the
+/// components c = U^T e of e and the singular values s.
+template <class T, class Scaled>
+void svd_step(const ik_vector<T>& e, ik_vector<T>& dq, ik_step_scratch<T>& s, Scaled scaled) {
+    const auto& sv = s.svd.singularValues();
+    s.projected.noalias() = s.svd.matrixU().transpose() * e;
+    for (Eigen::Index k = 0; k < sv.size(); ++k) s.projected[k] = scaled(s.projected[k], sv[k]);
+    dq.noalias() = s.svd.matrixV() * s.projected;
+}
+
+/// The scratch's SVD of J, its singular values copied to info.
+template <class T>
+void decompose(const ik_matrix<T>& j, ik_step_info<T>& info, ik_step_scratch<T>& s) {
+    s.svd.compute(j, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    info.singular_values = s.svd.singularValues();
+    info.decomposed = true;
+}
+
+}  // namespace detail
 
 /// Whitney's J^-1: only for a square J; a singular J is reported (the step
 /// is then zero), not inverted.
@@ -40,17 +78,26 @@ struct jacobian_inverse {
     explicit jacobian_inverse(const params& p) : prm(p) {}
 
     void operator()(const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq, ik_step_info<T>& info) const {
+        ik_step_scratch<T> s;
+        (*this)(j, e, dq, info, s);
+    }
+    void operator()(const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq, ik_step_info<T>& info,
+                    ik_step_scratch<T>& s) const {
         if (j.rows() != j.cols())
             throw invalid_argument("anima::jacobian_inverse: the Jacobian is " + std::to_string(j.rows()) + " x " +
                                    std::to_string(j.cols()) + ", not square; use pseudo_inverse or damped_least_squares");
-        Eigen::FullPivLU<ik_matrix<T>> lu(j);
-        lu.setThreshold(prm.min_pivot);
-        if (!lu.isInvertible()) {
+        s.lu.compute(j);
+        s.lu.setThreshold(prm.min_pivot);
+        if (!s.lu.isInvertible()) {
             info.singular = true;
             dq.setZero(j.cols());
             return;
         }
-        dq = lu.solve(e);
+        // P^-1 L U Q^-1 = J, solved in place (FullPivLU::solve would allocate its right side).
+        s.projected.noalias() = s.lu.permutationP() * e;
+        s.lu.matrixLU().template triangularView<Eigen::UnitLower>().solveInPlace(s.projected);
+        s.lu.matrixLU().template triangularView<Eigen::Upper>().solveInPlace(s.projected);
+        dq.noalias() = s.lu.permutationQ() * s.projected;
     }
 };
 
@@ -65,14 +112,16 @@ struct pseudo_inverse {
     explicit pseudo_inverse(const params& p) : prm(p) {}
 
     void operator()(const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq, ik_step_info<T>& info) const {
-        Eigen::JacobiSVD<ik_matrix<T>> svd(j, Eigen::ComputeThinU | Eigen::ComputeThinV);
-        info.singular_values = svd.singularValues();
-        const auto& s = info.singular_values;
-        const T smax = s.size() ? s[0] : T(0);
-        ik_vector<T> ute = svd.matrixU().transpose() * e;
-        for (Eigen::Index k = 0; k < s.size(); ++k) ute[k] = s[k] > prm.cutoff * smax && s[k] > T(0) ? ute[k] / s[k] : T(0);
-        dq = svd.matrixV() * ute;
-        info.singular = s.size() == 0 || !(smax > T(0));
+        ik_step_scratch<T> s;
+        (*this)(j, e, dq, info, s);
+    }
+    void operator()(const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq, ik_step_info<T>& info,
+                    ik_step_scratch<T>& s) const {
+        detail::decompose(j, info, s);
+        const auto& sv = info.singular_values;
+        const T smax = sv.size() ? sv[0] : T(0);
+        detail::svd_step(e, dq, s, [&](T c, T k) { return k > prm.cutoff * smax && k > T(0) ? c / k : T(0); });
+        info.singular = sv.size() == 0 || !(smax > T(0));
     }
 };
 
@@ -93,35 +142,61 @@ struct damped_least_squares {
     explicit damped_least_squares(const params& p) : prm(p) {}
 
     void operator()(const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq, ik_step_info<T>& info) const {
+        ik_step_scratch<T> s;
+        (*this)(j, e, dq, info, s);
+    }
+    void operator()(const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq, ik_step_info<T>& info,
+                    ik_step_scratch<T>& s) const {
         T l2 = prm.damping * prm.damping;
         if (prm.adaptive) {
-            Eigen::JacobiSVD<ik_matrix<T>> svd(j, Eigen::ComputeThinU | Eigen::ComputeThinV);
-            info.singular_values = svd.singularValues();
-            const auto& s = info.singular_values;
+            detail::decompose(j, info, s);
+            const auto& sv = info.singular_values;
             const Eigen::Index r = std::min(j.rows(), j.cols());
-            const T smin = (r > 0 && j.rows() <= j.cols()) ? s[r - 1] : T(0);
+            const T smin = (r > 0 && j.rows() <= j.cols()) ? sv[r - 1] : T(0);
             const T ratio = smin / prm.threshold;
             l2 = smin < prm.threshold ? l2 * (T(1) - ratio * ratio) : T(0);
             // Through the SVD: dq = V diag(s / (s^2 + l^2)) U^T e.
-            ik_vector<T> ute = svd.matrixU().transpose() * e;
-            for (Eigen::Index k = 0; k < s.size(); ++k) {
-                const T den = s[k] * s[k] + l2;
-                ute[k] = den > T(0) ? ute[k] * s[k] / den : T(0);
-            }
-            dq = svd.matrixV() * ute;
+            detail::svd_step(e, dq, s, [&](T c, T k) {
+                const T den = k * k + l2;
+                return den > T(0) ? c * k / den : T(0);
+            });
             info.damping = std::sqrt(l2);
             return;
         }
         info.damping = prm.damping;
-        ik_matrix<T> a = j * j.transpose();
-        a.diagonal().array() += l2;
-        Eigen::LDLT<ik_matrix<T>> ldlt(a);
-        dq = j.transpose() * ldlt.solve(e);
+        s.product.noalias() = j * j.transpose();
+        s.product.diagonal().array() += l2;
+        s.ldlt.compute(s.product);
+        s.projected = e;
+        s.ldlt.solveInPlace(s.projected);
+        dq.noalias() = j.transpose() * s.projected;
         if (!dq.allFinite()) {  // l = 0 on a singular J: fall back on the pseudo-inverse
-            pseudo_inverse<T>{}(j, e, dq, info);
+            pseudo_inverse<T>{}(j, e, dq, info, s);
         }
     }
 };
+
+namespace detail {
+
+/// rule(j, e, dq, info) with the scratch when the rule takes one (the
+/// library's do); info is reset first, keeping its storage.
+template <class T, class Rule>
+void apply_rule(const Rule& rule, const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq,
+                ik_step_info<T>& info, ik_step_scratch<T>& s) {
+    info.singular = false;
+    info.damping = T(0);
+    info.decomposed = false;
+    if constexpr (std::is_invocable_v<const Rule&, const ik_matrix<T>&, const ik_vector<T>&, ik_vector<T>&,
+                                      ik_step_info<T>&, ik_step_scratch<T>&>) {
+        rule(j, e, dq, info, s);
+    } else {
+        info.singular_values.resize(0);
+        rule(j, e, dq, info);
+        info.decomposed = info.singular_values.size() > 0;
+    }
+}
+
+}  // namespace detail
 
 /// Komura's weighted inverse: DOF k costs weights[k] (> 0; larger moves it
 /// less). The inner rule runs on J W^-1/2 and its step is scaled back.
@@ -136,13 +211,20 @@ struct weighted_rule {
                                        std::to_string(static_cast<double>(weights[k])) + ", must be positive and finite");
     }
     void operator()(const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq, ik_step_info<T>& info) const {
+        ik_step_scratch<T> s;
+        (*this)(j, e, dq, info, s);
+    }
+    /// The inner rule gets the same scratch: the weighted Jacobian and the
+    /// scale are members it does not use.
+    void operator()(const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq, ik_step_info<T>& info,
+                    ik_step_scratch<T>& s) const {
         if (weights.size() != j.cols())
             throw invalid_argument("anima::weighted_rule: " + std::to_string(weights.size()) + " weights for " +
                                    std::to_string(j.cols()) + " DOFs");
-        const ik_vector<T> scale = weights.cwiseSqrt().cwiseInverse();
-        const ik_matrix<T> jw = j * scale.asDiagonal();
-        rule(jw, e, dq, info);
-        dq = scale.cwiseProduct(dq);
+        s.scale = weights.cwiseSqrt().cwiseInverse();
+        s.weighted.noalias() = j * s.scale.asDiagonal();
+        detail::apply_rule(rule, static_cast<const ik_matrix<T>&>(s.weighted), e, dq, info, s);
+        dq.array() *= s.scale.array();
     }
 };
 
