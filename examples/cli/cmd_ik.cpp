@@ -210,7 +210,7 @@ void train_model(const ik_options& o, solver_setup& s, const wanted_list& wanted
 /// The JSON entries of the effectors (a range reports its last frame), and
 /// a warning on stderr for each effector that missed its target anywhere.
 json effector_report(const anima::clip_ik_result<double>& solved, const std::vector<wanted_list>& goal_names,
-                     const std::vector<long>& clusters, double tolerance, bool smooth) {
+                     const std::vector<Eigen::Index>& clusters, double tolerance, bool smooth) {
     const std::size_t last = solved.frames.back();
     const bool learned = !clusters.empty();
     json effectors = json::array();
@@ -310,19 +310,10 @@ void run_ik(const ik_options& o) {
     cp.progress = [&](std::size_t done, std::size_t total) {
         if (smooth && done % 20 == 0) std::cerr << "anima ik: " << done << " of " << total << " frames solved\n";
     };
-    std::vector<long> clusters;  // of the learned solver, per frame
-    const auto solver = learned ? anima::ik_solver::damped_least_squares : anima::parse_ik_solver(o.solver);
-    const auto solve = [&](const anima::kinematic_tree<double>& tree, const std::vector<anima::ik_goal<double>>& g,
-                           const anima::ik_vector<double>& q0,
-                           const anima::ik_params<double>& params) -> anima::ik_result<double> {
-        if (!learned) return anima::solve_ik_with(solver, tree, g, q0, params);
-        anima::learned_solve_params<double> l;
-        l.ik = params;
-        auto r = anima::solve_ik_learned(tree, *s.model, g, l);
-        clusters.push_back(static_cast<long>(r.cluster));
-        return std::move(r);
-    };
-    const auto solved = anima::solve_clip_ik(s.tree, c, goals, solve, cp);
+    std::vector<Eigen::Index> clusters;  // of the learned solver, per frame
+    const auto solved =
+        learned ? anima::solve_clip_ik(s.tree, c, goals, anima::learned_ik_solver<double>{s.model.get(), {}, &clusters}, cp)
+                : anima::solve_clip_ik(s.tree, c, goals, anima::ik_solver_call<double>{anima::parse_ik_solver(o.solver)}, cp);
     std::string page_written;
     if (!o.view.empty()) {
         view_page page;

@@ -293,3 +293,41 @@ TEST_CASE_TEMPLATE("pose_distance: zero on itself, symmetric, the joint angle fo
     poses << b, c;
     CHECK(distance_to_nearest_pose<T>(arm, a, poses) == doctest::Approx(static_cast<double>(pose_distance<T>(arm, a, c))));
 }
+
+TEST_CASE_TEMPLATE("learned_ik_solver and ik_solver_call: solve_clip_ik's solver shape, the same results", T, double,
+                   float) {
+    walk_setup<T> w;
+    learned_ik_params<T> prm;
+    prm.rows = prm.cols = 4;
+    prm.epochs = 8;
+    const auto model = learned_ik_model<T>::train(w.tree, w.effectors, w.training, prm);
+    std::vector<frame_goals<T>> goals;
+    for (std::size_t i = 0; i < 4; ++i) goals.push_back({w.held_out[i], w.goals_of(w.held_out[i])});
+    clip_ik_params<T> cp;  // no pull and no warm start: each frame's params are cp.ik as they are
+    cp.pose_pull = T(0);
+    cp.warm_start = false;
+    cp.ik.tolerance = tolerance<T>(1e-4, 1e-3);
+    learned_solve_params<T> sp;
+    sp.blend = 2;
+    std::vector<Eigen::Index> clusters;
+    const auto solved = solve_clip_ik(w.tree, w.walk, goals, learned_ik_solver<T>{&model, sp, &clusters}, cp);
+    const auto library = solve_clip_ik(w.tree, w.walk, goals, ik_solver_call<T>{ik_solver::levenberg_marquardt}, cp);
+    REQUIRE(clusters.size() == goals.size());
+    for (std::size_t i = 0; i < goals.size(); ++i) {
+        auto tree = w.tree;
+        tree.set_base(w.walk, goals[i].frame);
+        learned_solve_params<T> own = sp;
+        own.ik = cp.ik;
+        const auto alone = solve_ik_learned(tree, model, goals[i].goals, own);
+        CHECK(solved.results[i].q == alone.q);
+        CHECK(solved.results[i].iterations == alone.iterations);
+        CHECK(clusters[i] == alone.cluster);
+        const auto lm = solve_ik_with(ik_solver::levenberg_marquardt, tree, goals[i].goals, tree.pose_of(w.walk, goals[i].frame), cp.ik);
+        CHECK(library.results[i].q == lm.q);
+    }
+    CHECK(solved.converged_frames == goals.size());
+    CHECK(anima_test::contains(anima_test::invalid_argument_message([&] {
+                                   (void)solve_clip_ik(w.tree, w.walk, goals, learned_ik_solver<T>{}, cp);
+                               }),
+                               "no model"));
+}

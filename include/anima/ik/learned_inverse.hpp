@@ -459,4 +459,25 @@ learned_ik_result<T> solve_ik_learned(const kinematic_tree<T>& tree, const learn
     return result;
 }
 
+/// solve_ik_learned as a solver of the shape solve_clip_ik takes,
+/// solve(tree, goals, start, params): the start is not used (the model
+/// predicts one from the goals) and params replaces `learned.ik`. When
+/// `clusters` is given, each solve appends the cluster nearest its goals.
+template <class T>
+struct learned_ik_solver {
+    const learned_ik_model<T>* model = nullptr;
+    learned_solve_params<T> learned;
+    std::vector<Eigen::Index>* clusters = nullptr;
+
+    learned_ik_result<T> operator()(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
+                                    const ik_vector<T>& /*start*/, const ik_params<T>& params) const {
+        if (!model) throw invalid_argument("anima::learned_ik_solver: no model");
+        learned_solve_params<T> p = learned;
+        p.ik = params;
+        learned_ik_result<T> r = solve_ik_learned(tree, *model, goals, p);
+        if (clusters) clusters->push_back(r.cluster);
+        return r;
+    }
+};
+
 }  // namespace anima

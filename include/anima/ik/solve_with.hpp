@@ -79,4 +79,16 @@ ik_result<T> solve_ik_with(ik_solver solver, const kinematic_tree<T>& tree, cons
     throw invalid_argument("anima::solve_ik_with: unknown solver");
 }
 
+/// One of the library's solvers, chosen at run time, as a solver of the
+/// shape solve_clip_ik takes: solve(tree, goals, start, params) is
+/// solve_ik_with(solver, tree, goals, start, params).
+template <class T>
+struct ik_solver_call {
+    ik_solver solver = ik_solver::damped_least_squares;
+    ik_result<T> operator()(const kinematic_tree<T>& tree, const std::vector<ik_goal<T>>& goals,
+                            const ik_vector<T>& start, const ik_params<T>& params) const {
+        return solve_ik_with(solver, tree, goals, start, params);
+    }
+};
+
 }  // namespace anima
