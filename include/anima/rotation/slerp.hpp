@@ -46,26 +46,54 @@ enum class arc {
     as_given   ///< the great arc from a to b as they are (squad's inner blends)
 };
 
+/// What slerp_weights takes from the pairs alone (their a.b = d[m]), found
+/// once for pairs blended at many parameters.
+template <class T, int M>
+struct slerp_weight_keys {
+    bool direct = true;  ///< every 1 - d[m] below direct_series_limit: the series in d - 1
+    T y[M];              ///< d - 1 (direct), else c - 1 with c the cosine of a quarter of the angle
+    T t_scale = T(1);    ///< 1 (direct) or 4: the series' parameter is t_scale t
+    T inverse[M];        ///< 1 (direct), else 1 / (c (2c^2 - 1)) = sin(phi) / sin(theta)
+};
+
+/// slerp_weights' part that depends on the pairs only.
+template <class T, int M>
+ANIMA_FORCE_INLINE slerp_weight_keys<T, M> prepare_slerp_weights(const T (&d)[M]) {
+    slerp_weight_keys<T, M> k;
+    for (int m = 0; m < M; ++m) k.direct = k.direct && T(1) - d[m] <= direct_series_limit<T>();
+    for (int m = 0; m < M; ++m) {
+        if (k.direct) {
+            k.y[m] = d[m] - T(1);
+            k.inverse[m] = T(1);
+        } else {
+            const T c = cos_quarter_angle(d[m]);
+            k.y[m] = c - T(1);
+            k.inverse[m] = T(1) / (c * (T(2) * c * c - T(1)));
+        }
+    }
+    k.t_scale = k.direct ? T(1) : T(4);
+    return k;
+}
+
 /// Slerp weights (k0[m] for a, k1[m] for b) of M pairs of unit quaternions
 /// with a.b = d[m] in [0, 1] (a hair above 1 is fine), all at the same t in
-/// [0, 1]. The 2M series (t and 1 - t for each pair) run side by side in the
-/// lanes of as few vectors as hold them (one for up to two pairs of floats,
-/// one per pair of doubles). When every 1 - d[m] is below
-/// direct_series_limit the series in d - 1 itself is short enough: no square
-/// root or division. Otherwise the angle is quartered first (two square roots
-/// and one division per pair). Exact as the angle tends to 0.
+/// [0, 1], from the pairs' keys (prepare_slerp_weights). The 2M series (t
+/// and 1 - t for each pair) run side by side in the lanes of as few vectors
+/// as hold them (one for up to two pairs of floats, one per pair of
+/// doubles). When every 1 - d[m] is below direct_series_limit the series in
+/// d - 1 itself is short enough: no square root or division. Otherwise the
+/// angle is quartered first (two square roots and one division per pair, in
+/// the keys). Exact as the angle tends to 0.
 template <class T, int M>
-ANIMA_FORCE_INLINE void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[M]) {
+ANIMA_FORCE_INLINE void slerp_weights(const slerp_weight_keys<T, M>& keys, T t, T (&k0)[M], T (&k1)[M]) {
     constexpr int width = lane_count<T>, vectors = (2 * M + width - 1) / width;
     T q[vectors * width]{}, y[vectors * width]{}, s[vectors * width]{};
-    bool direct = true;
-    for (int m = 0; m < M; ++m) direct = direct && T(1) - d[m] <= direct_series_limit<T>();
-    if (direct) {
+    if (keys.direct) {
         const T t0 = T(1) - t;
         for (int m = 0; m < M; ++m) {
             q[2 * m] = t0 * t0;
             q[2 * m + 1] = t * t;
-            y[2 * m] = y[2 * m + 1] = d[m] - T(1);
+            y[2 * m] = y[2 * m + 1] = keys.y[m];
         }
         for (int v = 0; v < vectors; ++v) {
             const lanes<T> r = angle_series_lanes<T, direct_series_terms<T>()>(load_lanes(q + v * width),
@@ -79,12 +107,10 @@ ANIMA_FORCE_INLINE void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[
         return;
     }
     const T tau1 = T(4) * t, tau0 = T(4) - tau1;  // 4 - 4t is exact for t >= 1/2
-    T c[M];
     for (int m = 0; m < M; ++m) {
-        c[m] = cos_quarter_angle(d[m]);
         q[2 * m] = tau0 * tau0;
         q[2 * m + 1] = tau1 * tau1;
-        y[2 * m] = y[2 * m + 1] = c[m] - T(1);
+        y[2 * m] = y[2 * m + 1] = keys.y[m];
     }
     for (int v = 0; v < vectors; ++v) {
         const lanes<T> r = angle_series_lanes<T>(load_lanes(q + v * width), load_lanes(y + v * width));
@@ -92,10 +118,15 @@ ANIMA_FORCE_INLINE void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[
     }
     for (int m = 0; m < M; ++m) {
         // k = tau sin(phi) S / sin(theta), sin(theta) / sin(phi) = 4c(2c^2 - 1), tau = 4t.
-        const T inv = T(1) / (c[m] * (T(2) * c[m] * c[m] - T(1)));
-        k0[m] = (T(1) - t) * s[2 * m] * inv;
-        k1[m] = t * s[2 * m + 1] * inv;
+        k0[m] = (T(1) - t) * s[2 * m] * keys.inverse[m];
+        k1[m] = t * s[2 * m + 1] * keys.inverse[m];
     }
+}
+
+/// slerp_weights of pairs blended once: the keys found on the way.
+template <class T, int M>
+ANIMA_FORCE_INLINE void slerp_weights(const T (&d)[M], T t, T (&k0)[M], T (&k1)[M]) {
+    slerp_weights<T, M>(prepare_slerp_weights<T, M>(d), t, k0, k1);
 }
 
 /// Where 1 - cos(theta) is small enough for the two-term series of the weights.

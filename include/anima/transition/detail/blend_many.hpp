@@ -60,11 +60,12 @@ void slerp_many(const Eigen::Quaternion<T>& a_in, const Eigen::Quaternion<T>& b_
     const T cos_theta = std::abs(d) * ga * gb;
     constexpr T tolerance = near_unit_tolerance<T>(), identical = near_identity<T>();  // folded at compile time
     const bool fast = std::abs(na - T(1)) + std::abs(nb - T(1)) <= tolerance && -(cos_theta - T(1)) > identical;
+    const slerp_weight_keys<T, 1> weight_keys = prepare_slerp_weights<T, 1>({cos_theta});  // the same at every t
     blend_groups(
         t, n, fast, out,
         [&](const T* u, Eigen::Quaternion<T>* results) {
             T k0[blend_group][1], k1[blend_group][1];
-            for (std::size_t i = 0; i < blend_group; ++i) slerp_weights<T, 1>({cos_theta}, u[i], k0[i], k1[i]);
+            for (std::size_t i = 0; i < blend_group; ++i) slerp_weights<T, 1>(weight_keys, u[i], k0[i], k1[i]);
             for (std::size_t i = 0; i < blend_group; ++i) {
                 // slerp4's correction of the result's length, then the blend.
                 const T g = T(1.5) - T(0.5) * (k0[i][0] * k0[i][0] + k1[i][0] * k1[i][0] +
@@ -93,11 +94,12 @@ void squad_many(const Eigen::Quaternion<T>& q1_in, const Eigen::Quaternion<T>& q
     const T g1 = T(1.5) - T(0.5) * n1, g2 = (T(1.5) - T(0.5) * n2) * side;
     const T h1 = T(1.5) - T(0.5) * m1, h2 = (T(1.5) - T(0.5) * m2) * side;
     const T keys = dq * g1 * g2, controls = ds * h1 * h2 * side;
+    const slerp_weight_keys<T, 2> weight_keys = prepare_slerp_weights<T, 2>({keys, controls});  // the same at every t
     blend_groups(
         t, n, fast, out,
         [&](const T* u, Eigen::Quaternion<T>* results) {
             T k0[blend_group][2], k1[blend_group][2];
-            for (std::size_t i = 0; i < blend_group; ++i) slerp_weights<T, 2>({keys, controls}, u[i], k0[i], k1[i]);
+            for (std::size_t i = 0; i < blend_group; ++i) slerp_weights<T, 2>(weight_keys, u[i], k0[i], k1[i]);
             quat4<T> a[blend_group], b[blend_group];
             for (std::size_t i = 0; i < blend_group; ++i) {
                 a[i] = from_lanes(blend_lanes(lq1, k0[i][0] * g1, lq2, k1[i][0] * g2));
