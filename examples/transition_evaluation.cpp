@@ -2,7 +2,9 @@
 // inertialization on real clip pairs: transition length, peak joint angular
 // acceleration and jerk, peak root acceleration, foot slide and foot skate
 // (window against the clips' own), each method also with its feet planted
-// (plant_transition_feet), as a Markdown
+// (plant_transition_feet: by the legs alone, and with the root's path taken
+// from the feet first), and the clips' own 99th percentile of root
+// acceleration (after their rest-pose lead-in), as a Markdown
 // table; with an output folder it also plots one joint's angle through each
 // transition of the first pair (transition_plot.svg).
 //
@@ -14,6 +16,7 @@
 #include <anima/transition.hpp>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -111,6 +114,60 @@ void write_plot(const std::string& path, const std::string& title, const std::ve
         << "\" font-size=\"10\">ticks on the axis: ends</text>\n</svg>\n";
 }
 
+/// The 99th percentile of a clip's root acceleration (m/s^2) after its
+/// rest-pose lead-in, whose jump out of the T-pose is no motion of its own.
+double root_acceleration_p99(const anima::clip<double>& c, double metres_per_unit) {
+    const auto motion = c.slice(anima::rest_pose_lead_in(c), c.frames());
+    if (motion.frames() < 3) return 0;
+    const auto root = anima::global_positions(motion).leftCols(3).eval();
+    const auto acc = anima::time_derivative(anima::time_derivative(root, motion.frame_time()), motion.frame_time());
+    std::vector<double> norms;
+    for (Eigen::Index r = 0; r < acc.rows(); ++r) norms.push_back(acc.row(r).norm() * metres_per_unit);
+    std::sort(norms.begin(), norms.end());
+    return norms[norms.size() * 99 / 100];
+}
+
+/// One pair's rows of the table; plots its methods when plot_to is not empty.
+void evaluate_pair(const std::string& dir, const pair_spec& p, const std::string& plot_to) {
+    const auto a = anima::read_bvh(dir + "/" + p.a);
+    const auto b = anima::read_bvh(dir + "/" + p.b);
+    const auto roles = anima::joint_roles(a.skeleton());
+    const auto up = anima::guess_up_axis(a.skeleton()).up;
+    const double mpu = anima::guess_units(a.skeleton(), up).metres_per_unit;
+    const auto t = anima::make_transition(a, p.at, b, p.to);
+    std::vector<method_run> runs = {
+        {"variable timing", anima::join(a, p.at, t)},
+        {"direct cut", anima::direct_cut(a, p.at, b, p.to)},
+        {"crossfade 0.3 s", anima::crossfade(a, p.at, b, p.to, 0.3)},
+        {"inertialize (hl 0.1 s)", anima::inertialize(a, p.at, b, p.to, 0.1)},
+    };
+    // Each method as it comes, then with its feet planted through the
+    // window by the legs, then by the root and the legs.
+    anima::transition_feet_params<double> with_root;
+    with_root.root_from_feet = true;
+    const std::size_t methods = runs.size();
+    for (std::size_t i = 0; i < methods; ++i)
+        runs.push_back({runs[i].name + ", feet planted", anima::plant_transition_feet(runs[i].joined)});
+    for (std::size_t i = 0; i < methods; ++i)
+        runs.push_back(
+            {runs[i].name + ", feet planted, root from feet", anima::plant_transition_feet(runs[i].joined, with_root)});
+    std::printf("| %s | the clips themselves: 99th percentile | | | | %.1f | | |\n", p.label,
+                std::max(root_acceleration_p99(a, mpu), root_acceleration_p99(b, mpu)));
+    for (const auto& r : runs) {
+        const auto q = anima::measure_transition(r.joined, roles, up, mpu);
+        std::printf("| %s (%s → %s) | %s | %.3f | %.0f | %.3g | %.1f | %.2f | %.2f× |\n", p.label,
+                    std::string(anima::to_string(t.class_a.type)).c_str(),
+                    std::string(anima::to_string(t.class_b.type)).c_str(), r.name.c_str(), q.length,
+                    q.peak_angular_acceleration, q.peak_angular_jerk, q.peak_root_acceleration, q.foot_slide,
+                    q.foot_skate_ratio);
+    }
+    if (plot_to.empty()) return;
+    runs.resize(methods);  // the plot shows the methods as they come
+    const std::size_t joint = a.skeleton().find("rThigh").value_or(a.skeleton().find("RightUpLeg").value_or(1));
+    write_plot(plot_to, std::string(p.label) + ": " + a.skeleton()[joint].name + " angle through each transition",
+               runs, joint);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -125,49 +182,36 @@ int main(int argc, char** argv) {
         {"kick -> walk", "martialarts_frontkick_cmu_135_04.bvh", 700, "walk_cmu_02_01.bvh", 10},
         {"indian dance -> walk", "dance_indian_cmu_94_13.bvh", 1000, "walk_cmu_02_01.bvh", 10},
     };
+    // Pairs the root-from-feet ramp (transition_feet_params) was not chosen on.
+    std::vector<pair_spec> held_out = {
+        {"walk -> run (02_03)", "walk_cmu_02_01.bvh", 120, "run_cmu_02_03.bvh", 40},
+        {"run (02_03) -> walk", "run_cmu_02_03.bvh", 80, "walk_cmu_02_01.bvh", 150},
+        {"jump -> walk", "jump_cmu_02_04.bvh", 300, "walk_cmu_02_01.bvh", 60},
+        {"salsa -> walk", "dance_salsa_cmu_60_10.bvh", 900, "walk_cmu_02_01.bvh", 30},
+        {"indian dance -> run", "dance_indian_cmu_94_13.bvh", 400, "run_cmu_09_01.bvh", 40},
+        {"kick -> salsa", "martialarts_frontkick_cmu_135_04.bvh", 300, "dance_salsa_cmu_60_10.bvh", 200},
+        {"run -> run (other subject)", "run_cmu_09_01.bvh", 60, "run_cmu_02_03.bvh", 60},
+        {"walk -> walk (other phase)", "walk_cmu_02_01.bvh", 50, "walk_cmu_02_01.bvh", 250},
+    };
     std::string dir = data;
     if (!fs::exists(fs::path(dir) / "walk_cmu_02_01.bvh")) {
         std::printf("(%s not found: using the bundled run clip only)\n\n", data.c_str());
         dir = ANIMA_EXAMPLE_DATA_DIR;
         pairs = {{"run -> run (other phase)", "run_cmu_09_01.bvh", 60, "run_cmu_09_01.bvh", 100}};
+        held_out.clear();
     }
     try {
-        std::printf("| pair | method | length (s) | peak ang. acc. (rad/s²) | peak ang. jerk (rad/s³) | "
-                    "peak root acc. (m/s²) | foot slide (m/s) | skate: window / clips |\n"
-                    "|---|---|---:|---:|---:|---:|---:|---:|\n");
-        bool plotted = false;
-        for (const auto& p : pairs) {
-            const auto a = anima::read_bvh(dir + "/" + p.a);
-            const auto b = anima::read_bvh(dir + "/" + p.b);
-            const auto roles = anima::joint_roles(a.skeleton());
-            const auto up = anima::guess_up_axis(a.skeleton()).up;
-            const double mpu = anima::guess_units(a.skeleton(), up).metres_per_unit;
-            const auto t = anima::make_transition(a, p.at, b, p.to);
-            std::vector<method_run> runs = {
-                {"variable timing", anima::join(a, p.at, t)},
-                {"direct cut", anima::direct_cut(a, p.at, b, p.to)},
-                {"crossfade 0.3 s", anima::crossfade(a, p.at, b, p.to, 0.3)},
-                {"inertialize (hl 0.1 s)", anima::inertialize(a, p.at, b, p.to, 0.1)},
-            };
-            // Each method as it comes, then with its feet planted through the window.
-            for (std::size_t i = 0, n = runs.size(); i < n; ++i)
-                runs.push_back({runs[i].name + ", feet planted", anima::plant_transition_feet(runs[i].joined)});
-            for (const auto& r : runs) {
-                const auto q = anima::measure_transition(r.joined, roles, up, mpu);
-                std::printf("| %s (%s → %s) | %s | %.3f | %.0f | %.3g | %.1f | %.2f | %.2f× |\n", p.label,
-                            std::string(anima::to_string(t.class_a.type)).c_str(),
-                            std::string(anima::to_string(t.class_b.type)).c_str(), r.name.c_str(), q.length,
-                            q.peak_angular_acceleration, q.peak_angular_jerk, q.peak_root_acceleration, q.foot_slide,
-                            q.foot_skate_ratio);
-            }
-            runs.resize(runs.size() / 2);  // the plot shows the methods as they come
-            if (!out_dir.empty() && !plotted) {
-                const std::size_t joint = a.skeleton().find("rThigh").value_or(a.skeleton().find("RightUpLeg").value_or(1));
-                write_plot(out_dir + "/transition_plot.svg",
-                           std::string(p.label) + ": " + a.skeleton()[joint].name + " angle through each transition",
-                           runs, joint);
-                plotted = true;
-            }
+        const auto table = [&](const std::vector<pair_spec>& rows, bool plot) {
+            std::printf("| pair | method | length (s) | peak ang. acc. (rad/s²) | peak ang. jerk (rad/s³) | "
+                        "peak root acc. (m/s²) | foot slide (m/s) | skate: window / clips |\n"
+                        "|---|---|---:|---:|---:|---:|---:|---:|\n");
+            for (std::size_t i = 0; i < rows.size(); ++i)
+                evaluate_pair(dir, rows[i], plot && i == 0 && !out_dir.empty() ? out_dir + "/transition_plot.svg" : "");
+        };
+        table(pairs, true);
+        if (!held_out.empty()) {
+            std::printf("\nPairs the root-from-feet ramp was not chosen on:\n\n");
+            table(held_out, false);
         }
         if (!out_dir.empty()) std::printf("\nplot written to %s/transition_plot.svg\n", out_dir.c_str());
     } catch (const anima::error& e) {

@@ -24,7 +24,7 @@ struct transition_options {
     std::string a, b, output, view, feet_plot, method = "variable", timing = "velocity";
     std::size_t at = 0, to = 0;
     double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1;
-    bool json = false, no_plant_feet = false;
+    bool json = false, no_plant_feet = false, root_from_feet = false;
 };
 
 void check_frame(std::size_t frame, const clip_t& c, const std::string& path, const char* option) {
@@ -232,12 +232,15 @@ void run_transition(const transition_options& o) {
     const double mpu = anima::guess_units(a.skeleton(), up).metres_per_unit;
     const auto as_joined = anima::measure_transition(joined, roles, up, mpu);
     const auto unplanted = joined;
-    if (!o.no_plant_feet) joined = anima::plant_transition_feet(joined);
+    anima::transition_feet_params<double> feet;
+    feet.root_from_feet = o.root_from_feet;
+    if (!o.no_plant_feet) joined = anima::plant_transition_feet(joined, feet);
     const auto as_written = o.no_plant_feet ? as_joined : anima::measure_transition(joined, roles, up, mpu);
     const auto skate = [](const anima::transition_quality<double>& q) {
         return json{{"window", q.foot_skate_window}, {"clips", q.foot_skate_clips}, {"ratio", q.foot_skate_ratio}};
     };
     out["feet_planted"] = !o.no_plant_feet;
+    out["root_from_feet"] = !o.no_plant_feet && o.root_from_feet;
     out["foot_skate"] = skate(as_written);
     if (!o.no_plant_feet) out["foot_skate_unplanted"] = skate(as_joined);
     if (!o.feet_plot.empty()) {
@@ -323,6 +326,10 @@ void register_transition(CLI::App& app) {
         ->capture_default_str();
     sub->add_flag("--no-plant-feet", opts->no_plant_feet,
                   "Leave feet that are on the ground through the window sliding as the method left them");
+    sub->add_flag("--root-from-feet", opts->root_from_feet,
+                  "Before the legs plant the feet, move the root through the window so that feet on the ground "
+                  "stay put (less skate; the root may speed up and slow down more)")
+        ->excludes("--no-plant-feet");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_transition(*opts); });
 }

@@ -1505,3 +1505,119 @@ TEST_CASE("joint speeds: the mean |angular velocity| of the steps, for small and
     check(0.0, 1e-13);
     check(0.0f, 1e-5);
 }
+
+namespace {
+
+// Two legs under a hips joint, Y up, metres: the left foot (one point, no
+// End Site) on the ground while its hip swings it from 20 degrees forward
+// to 20 back over the clip, the right leg folded up off the ground (but at
+// the ends, so that the ground is known under it too), and the
+// root sliding backward instead of passing over the foot: the foot slides.
+clipd swinging_leg() {
+    using anima::channel;
+    anima::skeleton<double> sk;
+    sk.add_joint("Hips", -1, vec3::Zero(),
+                 {channel::x_position, channel::y_position, channel::z_position, channel::z_rotation,
+                  channel::x_rotation, channel::y_rotation});
+    for (const char* side : {"Left", "Right"}) {
+        const double x = side[0] == 'L' ? 0.1 : -0.1;
+        const auto hip = sk.add_joint(std::string(side) + "UpLeg", 0, vec3(x, 0, 0), {channel::x_rotation});
+        const auto knee = sk.add_joint(std::string(side) + "Leg", static_cast<int>(hip), vec3(0, -0.45, 0),
+                                       {channel::x_rotation});
+        sk.add_joint(std::string(side) + "Foot", static_cast<int>(knee), vec3(0, -0.45, 0), {channel::x_rotation});
+    }
+    sk.add_joint("Head", 0, vec3(0, 0.8, 0));  // the figure is 1.7 m tall
+    clipd c(sk, 120, 1.0 / 120);
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        const double s = static_cast<double>(f) / static_cast<double>(c.frames() - 1);
+        const double swing = (20 - 40 * s) * pi / 180;
+        c.set_root_position(f, vec3(0, 0.9 * std::cos(swing), -0.7 * s));  // the foot on the ground, the root sliding back
+        c.set_rotation(f, index(c, "LeftUpLeg"), about(-(20 - 40 * s), vec3::UnitX()));
+        // Folded but for the first and last 10 frames, where the foot is on the ground too.
+        const bool folded = f >= 10 && f + 10 < c.frames();
+        c.set_rotation(f, index(c, "RightLeg"), about(folded ? 100 : 0, vec3::UnitX()));
+    }
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("root_from_feet: a foot on the ground stays put, heights and the motion after the window as they were") {
+    const clipd c = swinging_leg();
+    const std::size_t left = index(c, "LeftFoot");
+    anima::contact_params<double> cp;
+    cp.use_speed = false;
+    cp.feet = {"LeftFoot", "RightFoot"};
+    const auto contacts = anima::find_contacts(c, cp);
+    REQUIRE(contacts.feet.size() == 2);
+    for (std::size_t f = 20; f <= 100; ++f) {
+        REQUIRE(contacts.feet[0].in_contact[f]);
+        REQUIRE_FALSE(contacts.feet[1].in_contact[f]);
+    }
+    const auto foot_at = [&](const clipd& clip, std::size_t f) { return anima::forward_kinematics(clip, f).positions[left]; };
+    CHECK((foot_at(c, 60) - foot_at(c, 40)).norm() > 0.05);  // the recording slides the foot
+    clipd out = c;
+    anima::transition_feet_params<double> params;
+    params.planting.contacts = cp;
+    params.root_from_feet = true;
+    const anima::frame_interval window{30, 90};
+    anima::detail::root_from_feet(out, window, contacts, params);
+    // Past the ramps (0.05 s = 6 frames, at most 1/8 of the window) the
+    // foot's horizontal position does not move; heights are untouched.
+    const vec3 planted = foot_at(out, 36);
+    for (std::size_t f = 36; f <= 84; ++f) {
+        CAPTURE(f);
+        const vec3 d = foot_at(out, f) - planted;
+        CHECK(std::hypot(d.x(), d.z()) < 1e-9);
+    }
+    for (std::size_t f = 0; f < c.frames(); ++f) CHECK(out.root_position(f).y() == c.root_position(f).y());
+    // Before the window nothing moves; after it, the recording's steps.
+    for (std::size_t f = 0; f <= window.first; ++f) CHECK(out.root_position(f) == c.root_position(f));
+    for (std::size_t f = window.last + 1; f < c.frames(); ++f)
+        CHECK((out.root_position(f) - out.root_position(f - 1) - (c.root_position(f) - c.root_position(f - 1))).norm() <
+              1e-12);
+    // Within the ramps the root's velocity turns from the recording's to the
+    // foot's smoothly: no step changes by more than the ramp allows.
+    double largest_change = 0;
+    for (std::size_t f = window.first + 1; f <= window.last + 1; ++f)
+        largest_change = std::max(largest_change, (out.root_position(f + 1) - 2 * out.root_position(f) +
+                                                   out.root_position(f - 1)).norm());
+    const double recorded_step = (c.root_position(61) - c.root_position(60)).norm();
+    CHECK(largest_change < recorded_step);  // a jolt would change the step by about a whole step
+    // Off: the path as it was.
+    params.root_from_feet = false;
+    const anima::joined_clip<double> joined{c, window.first, window.last};
+    const auto legs_only = anima::plant_transition_feet(joined, params);
+    for (std::size_t f = 0; f < c.frames(); ++f) CHECK(legs_only.motion.root_position(f) == c.root_position(f));
+    params.root_ramp_fraction = 0.8;
+    CHECK(thrown_message([&] { (void)anima::plant_transition_feet(joined, params); }).find("root_ramp_fraction") !=
+          std::string::npos);
+}
+
+TEST_CASE("plant_transition_feet with the root from the feet: the skate the legs alone leave is more than halved") {
+    struct pair_case {
+        const clipd* a;
+        std::size_t at;
+        const clipd* b;
+        std::size_t to;
+        double ratio;  // the window's skate over the clips' own is at most this
+    };
+    // The walk's feet are all but still with the legs alone already (0.00006x):
+    // there the root adds a little (0.15x); the run's legs alone leave 8x.
+    const pair_case cases[] = {{&walk31(), 100, &walk31(), 250, 0.5}, {&run<double>(), 60, &run<double>(), 100, 3.0}};
+    for (const auto& k : cases) {
+        const auto roles = anima::joint_roles(k.a->skeleton());
+        const auto cls = anima::classify_motion(*k.a, roles);
+        const auto joined = anima::transition_clips(*k.a, k.at, *k.b, k.to);
+        anima::transition_feet_params<double> with_root;
+        with_root.root_from_feet = true;
+        const auto legs = anima::measure_transition(anima::plant_transition_feet(joined), roles, cls.up, cls.metres_per_unit);
+        const auto both = anima::measure_transition(anima::plant_transition_feet(joined, with_root), roles, cls.up,
+                                                    cls.metres_per_unit);
+        INFO("frames " << k.at << " -> " << k.to << ": skate ratio " << both.foot_skate_ratio << ", legs alone "
+                       << legs.foot_skate_ratio);
+        if (legs.foot_skate_ratio > 1.5) CHECK(both.foot_skate_window < 0.5 * legs.foot_skate_window);
+        CHECK(both.foot_skate_ratio <= k.ratio);
+        CHECK(std::isfinite(both.peak_root_acceleration));
+    }
+}

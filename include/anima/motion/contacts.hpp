@@ -129,6 +129,29 @@ std::vector<std::size_t> subtree(const skeleton<T>& sk, std::size_t root) {
     return out;
 }
 
+/// A foot's points: its joints and their End Sites.
+struct foot_point {
+    std::size_t joint = 0;
+    bool end_site = false;  ///< the joint's End Site rather than the joint
+};
+
+template <class T>
+std::vector<foot_point> foot_points_of(const skeleton<T>& sk, std::size_t foot) {
+    std::vector<foot_point> out;
+    for (const std::size_t j : subtree(sk, foot)) {
+        out.push_back({j, false});
+        if (sk[j].end_site) out.push_back({j, true});
+    }
+    return out;
+}
+
+/// Where a foot point is in a pose.
+template <class T>
+Eigen::Matrix<T, 3, 1> foot_point_position(const skeleton<T>& sk, const global_pose<T>& pose, foot_point p) {
+    return p.end_site ? Eigen::Matrix<T, 3, 1>(pose.positions[p.joint] + pose.orientations[p.joint] * *sk[p.joint].end_site)
+                      : pose.positions[p.joint];
+}
+
 template <class T>
 T quantile(std::vector<T> values, T q) {
     if (values.empty()) return T(0);
@@ -241,20 +264,14 @@ std::vector<foot_points<T>> measure_feet(const clip<T>& c, const std::vector<std
     // would turn millimetre marker noise into centimetres per second.
     const auto half = std::max<std::size_t>(
         1, static_cast<std::size_t>(std::lround(1.0 / (60.0 * static_cast<double>(c.frame_time())))));
-    std::vector<std::vector<std::pair<std::size_t, bool>>> points(feet.size());  // (joint, its End Site?)
-    for (std::size_t i = 0; i < feet.size(); ++i)
-        for (const std::size_t j : subtree(sk, feet[i])) {
-            points[i].emplace_back(j, false);
-            if (sk[j].end_site) points[i].emplace_back(j, true);
-        }
+    std::vector<std::vector<foot_point>> points(feet.size());
+    for (std::size_t i = 0; i < feet.size(); ++i) points[i] = foot_points_of(sk, feet[i]);
     std::vector<std::vector<vector3>> where(feet.size());  // [foot][frame * points + p]
     global_pose<T> pose;
     for (std::size_t f = first; f < c.frames(); ++f) {
         forward_kinematics(c, f, pose);
         for (std::size_t i = 0; i < feet.size(); ++i)
-            for (const auto& [j, tip] : points[i])
-                where[i].push_back(tip ? vector3(pose.positions[j] + pose.orientations[j] * *sk[j].end_site)
-                                       : pose.positions[j]);
+            for (const foot_point p : points[i]) where[i].push_back(foot_point_position(sk, pose, p));
     }
     std::vector<foot_points<T>> out_points(feet.size());
     for (std::size_t i = 0; i < feet.size(); ++i) {

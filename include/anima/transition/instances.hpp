@@ -22,7 +22,7 @@ namespace anima {
 // clang-format off
 ANIMA_TRANSITION_INSTANCE transition<double> make_transition(const clip<double>&, std::size_t, const clip<double>&, std::size_t, const transition_params&);
 ANIMA_TRANSITION_INSTANCE transition_quality<double> measure_transition(const joined_clip<double>&, const std::vector<joint_role>&, signed_axis, double, std::size_t);
-ANIMA_TRANSITION_INSTANCE joined_clip<double> plant_transition_feet(const joined_clip<double>&, plant_feet_params<double>);
+ANIMA_TRANSITION_INSTANCE joined_clip<double> plant_transition_feet(const joined_clip<double>&, transition_feet_params<double>);
 // clang-format on
 }  // namespace anima
 #undef ANIMA_TRANSITION_INSTANCE
