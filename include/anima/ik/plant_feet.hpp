@@ -276,9 +276,9 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
         v[up] = T(0);
         return v;
     };
-    // A foot point is the joint's position (p = 0) or its End Site (p = 1).
-    const auto point = [&](std::size_t f, std::size_t j, int p) -> const vector3& {
-        return p == 0 ? poses[f].positions[j] : points[f][j];
+    // A foot point is the joint's position or its End Site's.
+    const auto point = [&](std::size_t f, detail::foot_point p) -> const vector3& {
+        return p.end_site ? points[f][p.joint] : poses[f].positions[p.joint];
     };
     const T reach = params.max_correction * contacts.body_height;
     const auto catching = static_cast<std::size_t>(std::ceil(params.catch_seconds / c.frame_time() - T(1e-6)));
@@ -297,11 +297,7 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
     for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
         const auto& foot = contacts.feet[i];
         if (!detail::has_leg(sk, foot.joint)) continue;
-        std::vector<std::pair<std::size_t, int>> foot_points;  // (joint, End Site?) in measure_feet's order
-        for (const std::size_t j : detail::subtree(sk, foot.joint)) {
-            foot_points.emplace_back(j, 0);
-            if (sk[j].end_site) foot_points.emplace_back(j, 1);
-        }
+        const auto foot_points = detail::foot_points_of(sk, foot.joint);  // in measure_feet's order
         const auto& fp = measured[i];
         // The stretches of the touched runs where the foot is not stepping,
         // and in each of their frames the point that carries the weight.
@@ -322,8 +318,8 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
             vector3 slid = vector3::Zero();
             correction[stances[r].first][i] = vector3::Zero();
             for (std::size_t f = stances[r].first + 1; f <= stances[r].last; ++f) {
-                const auto [j, tip] = foot_points[carrier[f]];
-                slid += flat(point(f, j, tip) - point(f - 1, j, tip));
+                const detail::foot_point bearing = foot_points[carrier[f]];
+                slid += flat(point(f, bearing) - point(f - 1, bearing));
                 if (slid.norm() > reach) slid *= reach / slid.norm();
                 const std::size_t k = f - stances[r].first;
                 const T ease = k >= catching ? T(1) : T(1) - detail::fade_out(static_cast<T>(k) / static_cast<T>(catching));
