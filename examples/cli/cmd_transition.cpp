@@ -24,7 +24,7 @@ struct transition_options {
     std::string a, b, output, view, feet_plot, method = "variable", timing = "velocity";
     std::size_t at = 0, to = 0;
     double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1;
-    bool json = false, no_plant_feet = false, root_from_feet = false;
+    bool json = false, no_plant_feet = false, root_from_feet = true;
 };
 
 void check_frame(std::size_t frame, const clip_t& c, const std::string& path, const char* option) {
@@ -326,10 +326,10 @@ void register_transition(CLI::App& app) {
         ->capture_default_str();
     sub->add_flag("--no-plant-feet", opts->no_plant_feet,
                   "Leave feet that are on the ground through the window sliding as the method left them");
-    sub->add_flag("--root-from-feet", opts->root_from_feet,
+    sub->add_flag("--root-from-feet,!--legs-only", opts->root_from_feet,
                   "Before the legs plant the feet, move the root through the window so that feet on the ground "
-                  "stay put (less skate; the root may speed up and slow down more)")
-        ->excludes("--no-plant-feet");
+                  "stay put, within the clips' own root acceleration (default; --legs-only leaves the root's path "
+                  "as the method made it)");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_transition(*opts); });
 }

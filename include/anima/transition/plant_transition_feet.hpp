@@ -1,10 +1,12 @@
 // Feet planted through a transition, in two stages:
-//   1. (on request) the root's horizontal path through the window is taken
-//      from the feet on the ground (root_from_feet): each frame the root moves against the
+//   1. the root's horizontal path through the window is taken from the feet
+//      on the ground (root_from_feet): each frame the root moves against the
 //      motion of the feet in contact relative to it, so a foot on the ground
-//      stays where it is; the frames after the window move with its end;
+//      stays where it is, but never accelerating beyond the clips' own; the
+//      frames after the window move with its end;
 //   2. what the root could not take out (two feet that disagree, the ramps
-//      at the window's ends) is taken out by IK on the legs: a foot on the
+//      at the window's ends, the acceleration limit) is taken out by IK on
+//      the legs: a foot on the
 //      ground when A hands over and still on it in B (or in the frames
 //      between) is held where it is, and the correction is released over
 //      the swing that follows (ik/plant_feet.hpp).
@@ -33,19 +35,21 @@ template <class T>
 struct transition_feet_params {
     plant_feet_params<T> planting;  ///< stage 2, the legs' IK (contacts by height alone)
     /// Stage 1: the root's horizontal path through the window from the feet
-    /// on the ground. Off by default: it takes most of the skate out, but
-    /// where the blended legs slow down toward B's pose while B's root moves
-    /// on (a run, an ease-out) the root slows and speeds up again, and its
-    /// peak acceleration can pass the clips' own (docs/transitions.md).
-    /// false: the path as the transition made it, and the legs alone hold
-    /// the feet.
-    bool root_from_feet = false;
+    /// on the ground. false: the path as the transition made it, and the
+    /// legs alone hold the feet.
+    bool root_from_feet = true;
     /// The feet's root motion takes over from the transition's within this
     /// long of either end of the window (a smoothstep), but within no more
     /// than root_ramp_fraction of the window: the root's velocity turns from
     /// A's into the feet's and from there into B's without a jolt.
     T root_ramp_seconds = T(0.05);
     T root_ramp_fraction = T(0.125);
+    /// The root's horizontal acceleration through the window stays within
+    /// this quantile of the joined clip's own outside it (after any rest-pose
+    /// lead-in), on each horizontal axis: where the blended legs slow down
+    /// toward B's pose while B's root moves on, the feet would have the root
+    /// stop and start again; the legs' IK takes the rest.
+    T root_acceleration_quantile = T(0.95);
 };
 
 namespace detail {
@@ -110,29 +114,68 @@ std::vector<Eigen::Matrix<T, 3, 1>> steps_from_feet(const clip<T>& c, frame_inte
     return steps;
 }
 
+/// The largest change of a horizontal step from one frame to the next (file
+/// units per frame, per axis) that keeps the root's acceleration within the
+/// q-quantile of c's own outside the window and after its first `skip`
+/// frames (a rest-pose lead-in). Infinity when there is nothing to measure.
+template <class T>
+T root_step_change_limit(const clip<T>& c, frame_interval window, std::size_t skip, signed_axis up, T q) {
+    const auto axis = static_cast<Eigen::Index>(up.axis);
+    std::vector<T> changes;
+    for (std::size_t f = skip + 2; f < c.frames(); ++f) {
+        if (f + 1 >= window.first && f <= window.last + 1) continue;
+        Eigen::Matrix<T, 3, 1> d = c.root_position(f) - T(2) * c.root_position(f - 1) + c.root_position(f - 2);
+        d[axis] = T(0);
+        changes.push_back(d.norm());
+    }
+    if (changes.empty()) return std::numeric_limits<T>::infinity();
+    std::sort(changes.begin(), changes.end());
+    return changes[static_cast<std::size_t>(q * static_cast<T>(changes.size() - 1))] / std::sqrt(T(2));
+}
+
 /// Stage 1 of plant_transition_feet on frames window.first .. window.last
 /// (A's last and B's first) of c: the root's horizontal path from
-/// steps_from_feet, ramped in and out (transition_feet_params), heights as
-/// they are; the frames after the window move with its end.
+/// steps_from_feet, ramped in and out (transition_feet_params), each step
+/// differing from the one before by at most `limit` on each horizontal axis
+/// (forward from A's last step, then back from B's first), heights as they
+/// are; the frames after the window move with its end.
 template <class T>
 void root_from_feet(clip<T>& c, frame_interval window, const contact_set<T>& contacts,
-                    const transition_feet_params<T>& params) {
+                    const transition_feet_params<T>& params, T limit) {
     using vec3 = Eigen::Matrix<T, 3, 1>;
     if (window.last <= window.first || window.last >= c.frames() || c.skeleton().translation_slot(0) < 0 ||
         contacts.feet.empty())
         return;
     const auto axis = static_cast<Eigen::Index>(contacts.up.axis);
-    const std::vector<vec3> steps = steps_from_feet(c, window, contacts, params.planting.contacts);
+    const auto recorded = [&](std::size_t f) {
+        vec3 s = c.root_position(f) - c.root_position(f - 1);
+        s[axis] = T(0);
+        return s;
+    };
+    std::vector<vec3> steps = steps_from_feet(c, window, contacts, params.planting.contacts);
     const T span = static_cast<T>(window.last - window.first);
     const T ramp = std::min(span * params.root_ramp_fraction, params.root_ramp_seconds / c.frame_time());
-    vec3 root = c.root_position(window.first);
-    std::vector<vec3> path;
     for (std::size_t f = window.first + 1; f <= window.last; ++f) {
         const T from_end = std::min(static_cast<T>(f - window.first) - T(0.5), static_cast<T>(window.last - f) + T(0.5));
         const T x = ramp > T(0) ? std::clamp(from_end / ramp, T(0), T(1)) : T(1), w = x * x * (T(3) - T(2) * x);
-        vec3 recorded = c.root_position(f) - c.root_position(f - 1);
-        recorded[axis] = T(0);
-        root += w * steps[f - window.first - 1] + (T(1) - w) * recorded;
+        vec3& step = steps[f - window.first - 1];
+        step = w * step + (T(1) - w) * recorded(f);
+    }
+    if (std::isfinite(limit)) {
+        const vec3 before = window.first >= 1 ? recorded(window.first) : steps.front();
+        const vec3 after = window.last + 1 < c.frames() ? recorded(window.last + 1) : steps.back();
+        for (Eigen::Index k = 0; k < 3; ++k) {
+            if (k == axis) continue;
+            T last = before[k];
+            for (vec3& s : steps) last = s[k] = std::clamp(s[k], last - limit, last + limit);
+            last = after[k];
+            for (auto s = steps.rbegin(); s != steps.rend(); ++s) last = (*s)[k] = std::clamp((*s)[k], last - limit, last + limit);
+        }
+    }
+    vec3 root = c.root_position(window.first);
+    std::vector<vec3> path;
+    for (std::size_t f = window.first + 1; f <= window.last; ++f) {
+        root += steps[f - window.first - 1];
         root[axis] = c.root_position(f)[axis];
         path.push_back(root);
     }
@@ -145,7 +188,7 @@ void root_from_feet(clip<T>& c, frame_interval window, const contact_set<T>& con
 
 /// The joined clip with its feet planted through the transition (frames
 /// start_frame..end_frame): the root's horizontal path from the feet on the
-/// ground when params.root_from_feet asks for it, then the contact runs that reach the
+/// ground (params.root_from_feet), then the contact runs that reach the
 /// window held by IK (params.planting, whose ranges are set here). Contacts
 /// are found on the joined clip with params.planting.contacts (height alone
 /// by default, so a foot sliding on the ground through the window counts as
@@ -155,11 +198,17 @@ template <class T>
 joined_clip<T> plant_transition_feet(const joined_clip<T>& joined, transition_feet_params<T> params = {}) {
     check_non_negative("anima::plant_transition_feet", "root_ramp_seconds", params.root_ramp_seconds);
     check_in_range("anima::plant_transition_feet", "root_ramp_fraction", params.root_ramp_fraction, T(0), T(0.5));
+    check_in_range("anima::plant_transition_feet", "root_acceleration_quantile", params.root_acceleration_quantile, T(0),
+                   T(1));
     joined_clip<T> out = joined;
     const frame_interval window{joined.start_frame, joined.end_frame};
     if (!has_feet_to_plant(out.motion, params.planting)) return out;
-    if (params.root_from_feet)
-        detail::root_from_feet(out.motion, window, find_contacts(out.motion, params.planting.contacts), params);
+    if (params.root_from_feet) {
+        const auto contacts = find_contacts(out.motion, params.planting.contacts);
+        const T limit = detail::root_step_change_limit(out.motion, window, contacts.lead_in, contacts.up,
+                                                       params.root_acceleration_quantile);
+        detail::root_from_feet(out.motion, window, contacts, params, limit);
+    }
     plant_feet_in_ranges(out.motion, {window}, std::move(params.planting), {});
     return out;
 }
