@@ -1595,6 +1595,15 @@ TEST_CASE("root_from_feet: a foot on the ground stays put, heights and the motio
     }
     CHECK(worst <= limit * (1 + 1e-9));
     CHECK((foot_at(limited, 60) - foot_at(limited, 40)).norm() > 1e-3);  // held back: the foot slides some
+    // One contact height for entering and leaving (no band to fade over): the same.
+    auto sharp = params;
+    sharp.planting.contacts.height_off = sharp.planting.contacts.height_on;
+    clipd stepped = c;
+    anima::detail::root_from_feet(stepped, window, anima::find_contacts(c, sharp.planting.contacts), sharp,
+                                  std::numeric_limits<double>::infinity());
+    for (std::size_t f = 0; f < c.frames(); ++f) REQUIRE(stepped.root_position(f).allFinite());
+    const vec3 held = foot_at(stepped, 36);
+    for (std::size_t f = 36; f <= 84; ++f) CHECK((foot_at(stepped, f) - held).norm() < 1e-9);
     // Off: the path as it was.
     params.root_from_feet = false;
     const anima::joined_clip<double> joined{c, window.first, window.last};

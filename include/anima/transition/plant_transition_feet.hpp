@@ -79,9 +79,11 @@ std::vector<Eigen::Matrix<T, 3, 1>> steps_from_feet(const clip<T>& c, frame_inte
             for (const foot_point p : points[i]) out[i].push_back(foot_point_position(sk, pose, p) - pose.positions[0]);
         }
     };
+    const T band = params.height_off - params.height_on;  // may be 0: a foot is then down or up
     const auto weight = [&](std::size_t i, std::size_t f) {
         const T rise = contacts.feet[i].rise[f];
-        return std::clamp((params.height_off - rise) / (params.height_off - params.height_on), T(0), T(1));
+        if (!(band > T(0))) return rise <= params.height_on ? T(1) : T(0);
+        return std::clamp((params.height_off - rise) / band, T(0), T(1));
     };
     std::vector<vec3> steps;
     std::vector<std::vector<vec3>> before, now;
