@@ -181,8 +181,9 @@ int main(int argc, char** argv) {
         {"kick -> walk", "martialarts_frontkick_cmu_135_04.bvh", 700, "walk_cmu_02_01.bvh", 10},
         {"indian dance -> walk", "dance_indian_cmu_94_13.bvh", 1000, "walk_cmu_02_01.bvh", 10},
     };
-    // Pairs the root-from-feet ramp and acceleration quantile
-    // (transition_feet_params) were not chosen on.
+    // Pairs picked after the root-from-feet ramp (transition_feet_params) was
+    // chosen on the six above; its acceleration quantile was chosen with
+    // both tables in view.
     std::vector<pair_spec> held_out = {
         {"walk -> run (02_03)", "walk_cmu_02_01.bvh", 120, "run_cmu_02_03.bvh", 40},
         {"run (02_03) -> walk", "run_cmu_02_03.bvh", 80, "walk_cmu_02_01.bvh", 150},
@@ -211,7 +212,7 @@ int main(int argc, char** argv) {
         };
         table(pairs, true);
         if (!held_out.empty()) {
-            std::printf("\nPairs the root-from-feet ramp and acceleration quantile were not chosen on:\n\n");
+            std::printf("\nPairs the root-from-feet ramp was not chosen on:\n\n");
             table(held_out, false);
         }
         if (!out_dir.empty()) std::printf("\nplot written to %s/transition_plot.svg\n", out_dir.c_str());
