@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
         anima::ik_result<double> out;
         anima::clip_ik_workspace<double> ws;
         std::vector<anima::ik_goal<double>> goals;
+        anima::global_pose<double> recorded;
         anima::clip<double> played = walk;  // what the player shows
 
         std::vector<double> before, after;  // per held foot and frame: distance from its anchor
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
         for (std::size_t f = 0; f < walk.frames(); ++f) {
             // This frame's goals: every foot in contact stays where its contact began.
             goals.clear();
-            const auto recorded = anima::forward_kinematics(walk, f);
+            anima::forward_kinematics(walk, f, recorded);  // into storage kept between frames
             for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
                 const auto& foot = contacts.feet[i];
                 if (!foot.in_contact[f]) continue;

@@ -221,7 +221,7 @@ struct ik_workspace {
     std::vector<goal_error<T>> errors;
     std::vector<unsigned char> locked;  ///< per DOF: held at a limit in this step
     ik_state<T> state;
-    ik_vector<T> start, q, r, dq, z, jz, zstep, parked;
+    ik_vector<T> start, r, dq, z, jz, zstep, parked;
     ik_matrix<T> jacobian, limited;  ///< J; J with the locked DOFs' columns zeroed
     ik_step_info<T> info, null_info;
     ik_step_scratch<T> step;

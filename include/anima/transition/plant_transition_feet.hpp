@@ -131,8 +131,7 @@ T root_step_change_limit(const clip<T>& c, frame_interval window, std::size_t sk
         changes.push_back(d.norm());
     }
     if (changes.empty()) return std::numeric_limits<T>::infinity();
-    std::sort(changes.begin(), changes.end());
-    return changes[static_cast<std::size_t>(q * static_cast<T>(changes.size() - 1))] / std::sqrt(T(2));
+    return quantile(std::move(changes), q) / std::sqrt(T(2));
 }
 
 /// Stage 1 of plant_transition_feet on frames window.first .. window.last
@@ -159,7 +158,7 @@ void root_from_feet(clip<T>& c, frame_interval window, const contact_set<T>& con
     const T ramp = std::min(span * params.root_ramp_fraction, params.root_ramp_seconds / c.frame_time());
     for (std::size_t f = window.first + 1; f <= window.last; ++f) {
         const T from_end = std::min(static_cast<T>(f - window.first) - T(0.5), static_cast<T>(window.last - f) + T(0.5));
-        const T x = ramp > T(0) ? std::clamp(from_end / ramp, T(0), T(1)) : T(1), w = x * x * (T(3) - T(2) * x);
+        const T w = T(1) - fade_out(ramp > T(0) ? from_end / ramp : T(1));  // eased in, as plant_feet catches a foot
         vec3& step = steps[f - window.first - 1];
         step = w * step + (T(1) - w) * recorded(f);
     }
