@@ -2,9 +2,12 @@
 // it as a frames x DOF matrix, and write it back out.
 #include <anima/bvh.hpp>
 #include <anima/motion.hpp>
+#include <anima/rotation/slerp.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 int main(int argc, char** argv) {
     const std::string path = argc > 1 ? argv[1] : ANIMA_EXAMPLE_DATA_DIR "/walk_cmu31_02_01.bvh";
@@ -26,6 +29,18 @@ int main(int argc, char** argv) {
         const auto layout = anima::make_dof_layout(walk);
         const auto m = anima::to_dof_matrix(walk, layout);
         std::printf("DOF matrix: %td x %td; column 0 is %s\n", m.rows(), m.cols(), layout.name(walk.skeleton(), 0).c_str());
+
+        // Hold the head's rotation of the first frame through the first
+        // tenth of a second, blended back out over it: one joint through
+        // many frames, stored at once (already unit: not normalised again).
+        anima::clip<double> held = walk;
+        const std::size_t span = std::min<std::size_t>(walk.frames(), 12);
+        std::vector<Eigen::Quaterniond> column(span);
+        for (std::size_t f = 0; f < span; ++f)
+            column[f] = anima::slerp(walk.rotation(0, head), walk.rotation(f, head),
+                                     static_cast<double>(f) / static_cast<double>(span));
+        held.set_joint_rotations(head, 0, column.data(), span);
+        std::printf("head held for %zu frames\n", span);
 
         // Z-up, metres, XYZ channels, written to a string.
         auto zup = anima::change_up_axis(walk, up.up, anima::signed_axis{anima::axis::z, 1});

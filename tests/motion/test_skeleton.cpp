@@ -504,6 +504,37 @@ TEST_CASE_TEMPLATE("clip setters normalise, validate and range-check", T, float,
     CHECK(contains(range, "frame 7"));
 }
 
+TEST_CASE_TEMPLATE("clip::set_joint_rotations: unit rotations as given, others normalised, bad ones refused", T, float,
+                   double) {
+    using Q = Eigen::Quaternion<T>;
+    anima::clip<T> c(small_skeleton<T>(), 4, T(0.1));
+    // A unit rotation to rounding (not exactly: its squared norm is 1 - eps)
+    // is stored bit for bit; one of length 2 is normalised as set_rotation does.
+    Q unit(std::sqrt(T(0.5)), std::sqrt(T(0.5)), T(0), T(0));
+    unit.w() = std::nextafter(unit.w(), T(0));
+    const Q twice(T(2), T(0), T(0), T(2));
+    const Q column[] = {unit, twice};
+    c.set_joint_rotations(1, 2, column, 2);
+    CHECK(c.rotation(2, 1).coeffs() == unit.coeffs());
+    anima::clip<T> reference = c;
+    reference.set_rotation(3, 1, twice);
+    CHECK(c.rotation(3, 1).coeffs() == reference.rotation(3, 1).coeffs());
+    CHECK(c.rotation(1, 1).coeffs() == Q::Identity().coeffs());  // other frames and joints untouched
+    CHECK(c.rotation(2, 0).coeffs() == Q::Identity().coeffs());
+    CHECK(c.rotation(2, 2).coeffs() == Q::Identity().coeffs());
+    c.set_joint_rotations(1, 4, column, 0);  // nothing to set, even at the end
+
+    const T nan = std::numeric_limits<T>::quiet_NaN();
+    const Q bad[] = {Q::Identity(), Q(nan, T(0), T(0), T(0))};
+    const std::string refused = invalid_argument_message([&] { c.set_joint_rotations(2, 0, bad, 2); });
+    CHECK(contains(refused, "frame 1"));
+    CHECK(contains(refused, "'slider'"));
+    const std::string past = invalid_argument_message([&] { c.set_joint_rotations(0, 3, column, 2); });
+    CHECK(contains(past, "out of range"));
+    CHECK_THROWS_AS(c.set_joint_rotations(0, static_cast<std::size_t>(-1), column, 2), anima::invalid_argument);
+    CHECK_THROWS_AS(c.set_joint_rotations(4, 0, column, 2), anima::invalid_argument);
+}
+
 // =====================================================================================
 // forward kinematics
 // =====================================================================================

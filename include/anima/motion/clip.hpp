@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -80,6 +81,26 @@ public:
             throw invalid_argument("anima::clip::set_rotation: frame " + std::to_string(f) + ", joint '" +
                                    skeleton_.at(j).name + "': zero or non-finite quaternion");
         rotations_[index(f, j)] = quaternion(q.coeffs() / n);
+    }
+    /// Sets joint j's rotation at frames first, first + 1, ..., first + n - 1
+    /// to q[0], ..., q[n - 1]: one joint's blended rotations through many
+    /// frames at once. A q already of unit length to rounding (|q|^2 within
+    /// 16 epsilon of 1, as slerp, squad and lerp return them) is stored as it
+    /// is, without set_rotation's square root and division; any other is
+    /// normalised as set_rotation does, and a zero or non-finite one refused.
+    void set_joint_rotations(std::size_t j, std::size_t first, const quaternion* q, std::size_t n) {
+        if (n == 0) return;
+        if (n > frames_ || first > frames_ - n)
+            throw invalid_argument("anima::clip::set_joint_rotations: frames [" + std::to_string(first) + ", " +
+                                   std::to_string(first) + " + " + std::to_string(n) + ") out of range (" +
+                                   std::to_string(frames_) + " frames)");
+        const std::size_t nj = skeleton_.size();
+        quaternion* out = rotations_.data() + index(first, j);
+        constexpr T tolerance = 16 * std::numeric_limits<T>::epsilon();
+        for (std::size_t k = 0; k < n; ++k, out += nj) {
+            if (std::abs(q[k].squaredNorm() - T(1)) <= tolerance) *out = q[k];  // NaN fails the test
+            else set_rotation(first + k, j, q[k]);
+        }
     }
 
     /// Local translation of joint j at frame f: the animated value for joints

@@ -6,7 +6,8 @@
 // come from the power series of detail/angle_series.hpp, with no sine or arc
 // cosine: when 1 - cos(theta) is below sqrt(epsilon), two terms of the
 // series in cos(theta) - 1; below 0.3 (float, 8 terms) or 0.2 (double, 16
-// terms), more terms of the same series; above, the series in
+// terms), more terms of the same series (fewer for small angles: 2 or 3 in
+// float, 4 or 7 in double below 1/1024 or 1/64); above, the series in
 // cos(theta/4) - 1 (two half-angle square roots, one division, 5 or 10
 // terms). Near theta = 0 the series are exact, so t is honoured at every
 // angle and identical inputs need no special case. The series for t and
@@ -51,6 +52,9 @@ enum class arc {
 template <class T, int M>
 struct slerp_weight_keys {
     bool direct = true;  ///< every 1 - d[m] below direct_series_limit: the series in d - 1
+    /// Direct series only: every 1 - d[m] at most direct_series_tiny (0),
+    /// direct_series_small (1) or neither (2), for as few terms as suffice.
+    int direct_tier = 2;
     T y[M];              ///< d - 1 (direct), else c - 1 with c the cosine of a quarter of the angle
     T t_scale = T(1);    ///< 1 (direct) or 4: the series' parameter is t_scale t
     T inverse[M];        ///< 1 (direct), else 1 / (c (2c^2 - 1)) = sin(phi) / sin(theta)
@@ -60,7 +64,13 @@ struct slerp_weight_keys {
 template <class T, int M>
 ANIMA_FORCE_INLINE slerp_weight_keys<T, M> prepare_slerp_weights(const T (&d)[M]) {
     slerp_weight_keys<T, M> k;
-    for (int m = 0; m < M; ++m) k.direct = k.direct && T(1) - d[m] <= direct_series_limit<T>();
+    bool tiny = true, small = true;  // NaN is neither
+    for (int m = 0; m < M; ++m) {
+        k.direct = k.direct && T(1) - d[m] <= direct_series_limit<T>();
+        tiny = tiny && T(1) - d[m] <= direct_series_tiny<T>;
+        small = small && T(1) - d[m] <= direct_series_small<T>;
+    }
+    k.direct_tier = tiny ? 0 : small ? 1 : 2;
     for (int m = 0; m < M; ++m) {
         if (k.direct) {
             k.y[m] = d[m] - T(1);
@@ -95,11 +105,19 @@ ANIMA_FORCE_INLINE void slerp_weights(const slerp_weight_keys<T, M>& keys, T t, 
             q[2 * m + 1] = t * t;
             y[2 * m] = y[2 * m + 1] = keys.y[m];
         }
-        for (int v = 0; v < vectors; ++v) {
-            const lanes<T> r = angle_series_lanes<T, direct_series_terms<T>()>(load_lanes(q + v * width),
-                                                                             load_lanes(y + v * width));
-            for (int i = 0; i < width; ++i) s[v * width + i] = r[i];
-        }
+        const auto series = [&](auto terms) {
+            for (int v = 0; v < vectors; ++v) {
+                const lanes<T> r =
+                    angle_series_lanes<T, decltype(terms)::value>(load_lanes(q + v * width), load_lanes(y + v * width));
+                for (int i = 0; i < width; ++i) s[v * width + i] = r[i];
+            }
+        };
+        if (keys.direct_tier == 0)
+            series(std::integral_constant<int, direct_series_terms_within<T>(direct_series_tiny<T>)>{});
+        else if (keys.direct_tier == 1)
+            series(std::integral_constant<int, direct_series_terms_within<T>(direct_series_small<T>)>{});
+        else
+            series(std::integral_constant<int, direct_series_terms<T>()>{});
         for (int m = 0; m < M; ++m) {
             k0[m] = t0 * s[2 * m];
             k1[m] = t * s[2 * m + 1];
@@ -136,6 +154,17 @@ constexpr T near_identity() {
     // loop on every call (which an unoptimised or -O1 build would run).
     constexpr T value = constexpr_sqrt(std::numeric_limits<T>::epsilon());
     return value;
+}
+
+/// Slerp weights for 1 - cos(theta) = -y at most near_identity: two terms
+/// of the series in y itself, exact there (the third is under 2 y^2 / 15 <=
+/// eps / 8). The factors of y depend on t alone, off the chain from the
+/// inputs; the weights are exact to rounding and need no length correction.
+template <class T>
+ANIMA_FORCE_INLINE void near_identity_weights(T t, T y, T& k0, T& k1) {
+    const T s = T(1) - t, p0 = s * (s * s - T(1)) * T(1.0L / 3), p1 = t * (t * t - T(1)) * T(1.0L / 3);
+    k0 = s + p0 * y;
+    k1 = t + p1 * y;
 }
 
 /// sin(k theta) / sin(theta), exact as theta -> 0 (where it tends to k).
@@ -206,15 +235,9 @@ ANIMA_FORCE_INLINE quat4<T> slerp4(const quat4<T>& a4, const quat4<T>& b4, T t, 
     T k0, k1;
     const T y = cos_theta - T(1);
     if (-y <= near_identity<T>()) {
-        // theta below about eps^(1/4): two terms of the series in cos(theta) - 1
-        // itself are exact (the third is under 2 y^2 / 15 <= eps / 8), with no
-        // square root or division. Nearly identical and nearly antipodal inputs.
-        // The factors of y depend on t alone, off the chain from the inputs;
-        // the weights are exact to rounding, so the result needs no length
-        // correction of its own.
-        const T s = T(1) - t, p0 = s * (s * s - T(1)) * T(1.0L / 3), p1 = t * (t * t - T(1)) * T(1.0L / 3);
-        k0 = s + p0 * y;
-        k1 = t + p1 * y;
+        // theta below about eps^(1/4), nearly identical or nearly antipodal
+        // inputs: no square root or division.
+        near_identity_weights(t, y, k0, k1);
         return from_lanes(blend_lanes(a, k0 * ga, b, k1 * gbs));
     }
     T w0[1], w1[1];

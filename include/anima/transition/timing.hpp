@@ -99,19 +99,6 @@ struct timing_result {
 
 namespace detail {
 
-/// Terms of the series for phi / sin(phi) in y = cos(phi) - 1 (angle_series
-/// at tau = 0, term i = v_1 ... v_i y^i) that leave the first omitted term
-/// below epsilon / 8 for -y <= bound, as direct_series_terms does for 0.2.
-template <class T>
-constexpr int half_angle_ratio_terms(T bound) {
-    T term = 1;
-    int n = 0;
-    for (;; ++n) {
-        term *= bound * T(n + 1) / T(2 * n + 3);
-        if (term < std::numeric_limits<T>::epsilon() / 8) return n;
-    }
-}
-
 /// phi / sin(phi) for every y = cos(phi) - 1 of a fixed-size array: the
 /// series of angle_series at tau = 0 with `terms` terms, by the same Horner's
 /// rule over pairs of terms.
@@ -283,11 +270,11 @@ void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, co
             to(s.speed, i) = (wx * wx + wy * wy + wz * wz).sqrt();
         }
     };
-    constexpr T tiny = T(1) / T(1024), small = T(1) / T(64);
+    constexpr T tiny = direct_series_tiny<T>, small = direct_series_small<T>;
     if (largest <= tiny)
-        finish(std::integral_constant<int, half_angle_ratio_terms<T>(tiny)>{});
+        finish(std::integral_constant<int, direct_series_terms_within<T>(tiny)>{});
     else if (largest <= small)
-        finish(std::integral_constant<int, half_angle_ratio_terms<T>(small)>{});
+        finish(std::integral_constant<int, direct_series_terms_within<T>(small)>{});
     else
         finish(std::integral_constant<int, direct_series_terms<T>()>{});
     step_rates_outside_series(s, count, nj, dt, off_unit.maxCoeff(), largest);

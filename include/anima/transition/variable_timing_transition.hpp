@@ -270,7 +270,7 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
         switch (out.methods[j]) {
             case interpolation::lerp: {
                 const std::vector<T>& hs = roles[j] == joint_role::finger ? ws.h_linear : ws.h;
-                for (std::size_t k = 0; k + 1 < steps; ++k) out.frames.set_rotation(k, j, anima::lerp(q1, q2, hs[k]));
+                for (std::size_t k = 0; k + 1 < steps; ++k) ws.blend[k] = anima::lerp(q1, q2, hs[k]);
                 break;
             }
             case interpolation::squad: {
@@ -281,14 +281,13 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
                 const quat after = j == 0 ? out.placement.rotation(b.rotation(next, 0)) : b.rotation(next, j);
                 const quat s1 = squad_control_point(before, q1, b_first), s2 = squad_control_point(q1, b_first, after);
                 squad_many(q1, b_first, s1, s2, ws.h.data(), steps - 1, ws.blend.data());
-                for (std::size_t k = 0; k + 1 < steps; ++k) out.frames.set_rotation(k, j, ws.blend[k]);
                 break;
             }
             default:
                 slerp_many(q1, q2, ws.h.data(), steps - 1, ws.blend.data());
-                for (std::size_t k = 0; k + 1 < steps; ++k) out.frames.set_rotation(k, j, ws.blend[k]);
                 break;
         }
+        out.frames.set_joint_rotations(j, 0, ws.blend.data(), steps - 1);
         if (j > 0 && a.skeleton().translation_slot(j) >= 0) {
             const vec3 &from = a.translation(trigger, j), &to = b.translation(b_start, j);
             for (std::size_t k = 0; k + 1 < steps; ++k)

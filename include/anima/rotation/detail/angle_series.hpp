@@ -46,6 +46,28 @@ constexpr T direct_series_limit() {
     return digits <= 24 ? T(0.3) : digits <= 53 ? T(0.2) : T(0.1);
 }
 
+/// Terms of the direct series (tau in [0, 1] or 0) that leave the first
+/// omitted one, at most v_1 ... v_(n+1) bound^(n+1), below epsilon / 8 for
+/// -y <= bound: fewer than direct_series_terms for small angles, the usual
+/// case of neighbouring frames and of slerps between nearby poses.
+template <class T>
+constexpr int direct_series_terms_within(T bound) {
+    T term = 1;
+    int n = 0;
+    for (;; ++n) {
+        term *= bound * T(n + 1) / T(2 * n + 3);
+        if (term < std::numeric_limits<T>::epsilon() / 8) return n;
+    }
+}
+
+/// The bounds on -y = 1 - cos(theta) under which the direct series is cut
+/// short: 4-vector angles up to 2.5 and 10.1 degrees (rotations up to 5 and
+/// 20 degrees); 4 and 7 terms in double, 2 and 3 in float.
+template <class T>
+inline constexpr T direct_series_tiny = T(1) / T(1024);
+template <class T>
+inline constexpr T direct_series_small = T(1) / T(64);
+
 /// Number of series terms for tau <= 4, theta <= pi/2 that leaves the
 /// truncation error below the scalar's rounding error.
 template <class T>

@@ -45,10 +45,10 @@ void blend_groups(const T* t, std::size_t n, bool fast, Eigen::Quaternion<T>* ou
     }
 }
 
-/// out[k] = slerp(a, b, t[k]) for k < n: slerp4's fast path with the pair's
-/// part taken out of the loop. What slerp4 would send elsewhere (inputs far
-/// from unit length, nearly identical inputs, t outside [0, 1]) goes to
-/// slerp itself.
+/// out[k] = slerp(a, b, t[k]) for k < n: slerp4's fast paths (nearly
+/// identical inputs or not) with the pair's part taken out of the loop. What
+/// slerp4 would send to its general path (inputs far from unit length, t
+/// outside [0, 1]) goes to slerp itself.
 template <class T>
 void slerp_many(const Eigen::Quaternion<T>& a_in, const Eigen::Quaternion<T>& b_in, const T* t, std::size_t n,
                 Eigen::Quaternion<T>* out) {
@@ -59,11 +59,21 @@ void slerp_many(const Eigen::Quaternion<T>& a_in, const Eigen::Quaternion<T>& b_
     const T gbs = d < T(0) ? -gb : gb;  // the shorter arc
     const T cos_theta = std::abs(d) * ga * gb;
     constexpr T tolerance = near_unit_tolerance<T>(), identical = near_identity<T>();  // folded at compile time
-    const bool fast = std::abs(na - T(1)) + std::abs(nb - T(1)) <= tolerance && -(cos_theta - T(1)) > identical;
+    const bool fast = std::abs(na - T(1)) + std::abs(nb - T(1)) <= tolerance;
+    const T y = cos_theta - T(1);
+    const bool near = -y <= identical;
     const slerp_weight_keys<T, 1> weight_keys = prepare_slerp_weights<T, 1>({cos_theta});  // the same at every t
     blend_groups(
         t, n, fast, out,
         [&](const T* u, Eigen::Quaternion<T>* results) {
+            if (near) {
+                for (std::size_t i = 0; i < blend_group; ++i) {
+                    T k0, k1;
+                    near_identity_weights(u[i], y, k0, k1);
+                    results[i] = store<Eigen::Quaternion<T>>(from_lanes(blend_lanes(a, k0 * ga, b, k1 * gbs)));
+                }
+                return;
+            }
             T k0[blend_group][1], k1[blend_group][1];
             for (std::size_t i = 0; i < blend_group; ++i) slerp_weights<T, 1>(weight_keys, u[i], k0[i], k1[i]);
             for (std::size_t i = 0; i < blend_group; ++i) {
