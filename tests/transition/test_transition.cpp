@@ -1614,6 +1614,65 @@ TEST_CASE("root_from_feet: a foot on the ground stays put, heights and the motio
           std::string::npos);
 }
 
+TEST_CASE("root_from_feet: a swing skimming the floor beside a planted foot drags it slower than the legs' stepping "
+          "speed") {
+    // Feet placed directly (position channels under the hips), Y up, metres:
+    // the left foot should stay at z = 0.3 while the hips walk forward at
+    // 0.6 m/s, but the recording moves the hips at 0.3 m/s, so it slides
+    // back; the right foot skims the floor at the same height, 2.4 m/s
+    // forward. Height alone calls both feet on the ground.
+    using anima::channel;
+    const std::vector<channel> moved{channel::x_position, channel::y_position, channel::z_position};
+    anima::skeleton<double> sk;
+    sk.add_joint("Hips", -1, vec3::Zero(),
+                 {channel::x_position, channel::y_position, channel::z_position, channel::z_rotation,
+                  channel::x_rotation, channel::y_rotation});
+    sk.add_joint("LeftFoot", 0, vec3(0.1, -0.9, 0), moved);
+    sk.add_joint("RightFoot", 0, vec3(-0.1, -0.9, 0), moved);
+    sk.add_joint("Head", 0, vec3(0, 0.8, 0));
+    clipd c(sk, 120, 1.0 / 120);
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        const double t = static_cast<double>(f) * c.frame_time();
+        const double walked = 0.6 * t, recorded = 0.3 * t;
+        c.set_root_position(f, vec3(0, 0.9, recorded));
+        c.set_translation(f, index(c, "LeftFoot"), vec3(0.1, -0.9, 0.3 - walked));
+        c.set_translation(f, index(c, "RightFoot"), vec3(-0.1, -0.9, 2.4 * t - recorded));
+    }
+    anima::transition_feet_params<double> params;
+    params.planting.contacts.feet = {"LeftFoot", "RightFoot"};
+    const auto contacts = anima::find_contacts(c, params.planting.contacts);
+    REQUIRE(contacts.feet.size() == 2);
+    for (std::size_t f = 10; f < 110; ++f) REQUIRE((contacts.feet[0].in_contact[f] && contacts.feet[1].in_contact[f]));
+    const std::size_t left = index(c, "LeftFoot");
+    const anima::frame_interval window{30, 90};
+    // The left foot's fastest horizontal speed past the ramps, body heights per second.
+    const auto fastest_slide = [&](const anima::transition_feet_params<double>& p) {
+        clipd out = c;
+        anima::detail::root_from_feet(out, window, contacts, p, std::numeric_limits<double>::infinity());
+        double fastest = 0;
+        for (std::size_t f = 37; f <= 84; ++f) {
+            vec3 d = anima::forward_kinematics(out, f).positions[left] - anima::forward_kinematics(out, f - 1).positions[left];
+            d.y() = 0;
+            fastest = std::max(fastest, d.norm() / (c.frame_time() * contacts.body_height));
+        }
+        return fastest;
+    };
+    const double slide_speed = params.planting.slide_fraction * contacts.fast_foot_speed;
+    const double recorded = 0.3 / contacts.body_height, shared = 0.5 * (2.4 + 0.3) / contacts.body_height;
+    INFO("slide speed " << slide_speed << ", recorded " << recorded << ", shared equally " << shared);
+    REQUIRE(shared > slide_speed);  // sharing equally would leave the legs nothing to hold
+    // The right foot is 2.1 m/s faster: it counts slide_speed / (2 d) as
+    // much as the left, which then moves at w / (1 + w) of the 2.7 m/s
+    // between them: slower than the legs' stepping test, so they hold it.
+    const double w = slide_speed / (2 * 2.1 / contacts.body_height);
+    const double capped = fastest_slide(params);
+    CHECK(capped == doctest::Approx(w / (1 + w) * 2.7 / contacts.body_height).epsilon(1e-6));
+    CHECK(capped < slide_speed);
+    auto equal = params;  // every foot as much as the others: the two feet's mean
+    equal.planting.slide_fraction = 1e9;
+    CHECK(fastest_slide(equal) == doctest::Approx(shared).epsilon(1e-6));
+}
+
 TEST_CASE("plant_transition_feet: the root from the feet halves the skate the legs alone leave, within the clips' own "
           "range of root acceleration") {
     struct pair_case {

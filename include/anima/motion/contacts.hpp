@@ -103,6 +103,9 @@ struct contact_set {
     T frame_time = T(0);
     std::size_t lead_in = 0;                     ///< frames left out at the start (skip_rest_pose)
     T speed_on = T(0);                           ///< the entering speed used, body heights per second
+    /// The 95th percentile of the feet's point speeds, body heights per
+    /// second: the scale that tells a stepping foot from a still or sliding one.
+    T fast_foot_speed = T(0);
     std::vector<foot_contact<T>> feet;
     std::vector<bool> airborne;                  ///< per frame: no foot in contact
     std::vector<frame_interval> airborne_phases; ///< the runs of airborne
@@ -380,8 +383,8 @@ contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params =
         return static_cast<std::size_t>(std::ceil(seconds / c.frame_time() - T(1e-6)));
     };
     const auto measured = detail::measure_feet(c, feet, first, out, params);
-    out.speed_on = std::min(params.speed_on,
-                            std::max(params.speed_floor, params.relative_speed * detail::fast_foot_speed(measured)));
+    out.fast_foot_speed = detail::fast_foot_speed(measured);
+    out.speed_on = std::min(params.speed_on, std::max(params.speed_floor, params.relative_speed * out.fast_foot_speed));
     const T speed_off = out.speed_on * (params.speed_off / params.speed_on);
 
     std::vector<bool> airborne(n, true);

@@ -59,11 +59,17 @@ namespace detail {
 /// against the motion, relative to the root, of each foot in contact, a
 /// foot's motion that of its points weighted toward the lowest (softly, over
 /// 1% of body height: a foot rolls from heel to toe), a foot counting fully
-/// below height_on and not at all above height_off. What the feet do not
-/// carry of a step is the recorded step.
+/// below height_on and not at all above height_off. Two feet that disagree
+/// share the difference, but a foot d faster than the slowest low foot (a
+/// swing that skims the floor, or a foot the blend drags; horizontal speeds
+/// in body heights per second) counts at most slide_speed / (2 d) as much:
+/// an equal share would drag the slowest at about d / 2, and past
+/// slide_speed the legs' IK takes a foot for stepping and lets it go. What
+/// the feet do not carry of a step is the recorded step.
 template <class T>
 std::vector<Eigen::Matrix<T, 3, 1>> steps_from_feet(const clip<T>& c, frame_interval window,
-                                                    const contact_set<T>& contacts, const contact_params<T>& params) {
+                                                    const contact_set<T>& contacts, const contact_params<T>& params,
+                                                    T slide_speed) {
     using vec3 = Eigen::Matrix<T, 3, 1>;
     const auto& sk = c.skeleton();
     const auto axis = static_cast<Eigen::Index>(contacts.up.axis);
@@ -80,33 +86,51 @@ std::vector<Eigen::Matrix<T, 3, 1>> steps_from_feet(const clip<T>& c, frame_inte
         }
     };
     const T band = params.height_off - params.height_on;  // may be 0: a foot is then down or up
-    const auto weight = [&](std::size_t i, std::size_t f) {
+    const auto low = [&](std::size_t i, std::size_t f) {
         const T rise = contacts.feet[i].rise[f];
         if (!(band > T(0))) return rise <= params.height_on ? T(1) : T(0);
         return std::clamp((params.height_off - rise) / band, T(0), T(1));
     };
+    const auto foot_motion = [&](const std::vector<vec3>& from, const std::vector<vec3>& to) {
+        T lowest = std::numeric_limits<T>::infinity();
+        for (const vec3& p : from) lowest = std::min(lowest, sign * p[axis]);
+        vec3 foot = vec3::Zero();
+        T total = T(0);
+        for (std::size_t p = 0; p < from.size(); ++p) {
+            const T k = std::exp(-(sign * from[p][axis] - lowest) / softness);
+            foot += k * (to[p] - from[p]);
+            total += k;
+        }
+        return vec3(foot / total);
+    };
+    std::vector<T> weights(points.size());
+    std::vector<vec3> motion(points.size());
     std::vector<vec3> steps;
     std::vector<std::vector<vec3>> before, now;
     relative(window.first, before);
     for (std::size_t f = window.first + 1; f <= window.last; ++f) {
         relative(f, now);
+        std::size_t slowest = points.size();
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            weights[i] = std::min(low(i, f - 1), low(i, f));
+            if (!(weights[i] > T(0))) continue;
+            motion[i] = foot_motion(before[i], now[i]);
+            if (slowest == points.size() || contacts.feet[i].speed[f] < contacts.feet[slowest].speed[f]) slowest = i;
+        }
+        // A foot d faster than the slowest low foot counts at most
+        // slide_speed / (2 d) as much.
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            if (!(weights[i] > T(0))) continue;  // then there is a slowest
+            const T faster = contacts.feet[i].speed[f] - contacts.feet[slowest].speed[f];
+            if (faster > T(0)) weights[i] *= std::min(T(1), slide_speed / (T(2) * faster));
+        }
         vec3 moved = vec3::Zero();
         T carried = T(0);
-        for (std::size_t i = 0; i < points.size(); ++i) {
-            const T w = std::min(weight(i, f - 1), weight(i, f));
-            if (!(w > T(0))) continue;
-            T lowest = std::numeric_limits<T>::infinity();
-            for (const vec3& p : before[i]) lowest = std::min(lowest, sign * p[axis]);
-            vec3 foot = vec3::Zero();
-            T total = T(0);
-            for (std::size_t p = 0; p < before[i].size(); ++p) {
-                const T k = std::exp(-(sign * before[i][p][axis] - lowest) / softness);
-                foot += k * (now[i][p] - before[i][p]);
-                total += k;
+        for (std::size_t i = 0; i < points.size(); ++i)
+            if (weights[i] > T(0)) {
+                moved += weights[i] * motion[i];
+                carried += weights[i];
             }
-            moved += w * foot / total;
-            carried += w;
-        }
         vec3 step = -moved / std::max(T(1), carried) +
                     std::max(T(0), T(1) - carried) * vec3(c.root_position(f) - c.root_position(f - 1));
         step[axis] = T(0);
@@ -153,7 +177,8 @@ void root_from_feet(clip<T>& c, frame_interval window, const contact_set<T>& con
         s[axis] = T(0);
         return s;
     };
-    std::vector<vec3> steps = steps_from_feet(c, window, contacts, params.planting.contacts);
+    const T slide_speed = params.planting.slide_fraction * contacts.fast_foot_speed;
+    std::vector<vec3> steps = steps_from_feet(c, window, contacts, params.planting.contacts, slide_speed);
     const T span = static_cast<T>(window.last - window.first);
     const T ramp = std::min(span * params.root_ramp_fraction, params.root_ramp_seconds / c.frame_time());
     for (std::size_t f = window.first + 1; f <= window.last; ++f) {
