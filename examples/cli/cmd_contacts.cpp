@@ -3,12 +3,14 @@
 // (anima::find_contacts, anima::foot_skate).
 #include "commands.hpp"
 #include "common.hpp"
+#include "svg_chart.hpp"
 
 #include <anima/motion/contacts.hpp>
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <iostream>
 #include <memory>
@@ -39,55 +41,33 @@ std::string intervals_text(const std::vector<anima::frame_interval>& runs, doubl
     return out;
 }
 
-/// Each foot's rise above its standing height against time, contact frames
-/// as bars under its curve, airborne phases shaded across the plot.
+/// Each foot's rise above its standing height against time, airborne
+/// phases shaded, and under it each foot's contact frames as bars.
 void write_plot(const std::string& path, const std::string& name, const anima::contact_set<double>& s) {
     static const char* const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
-    const std::size_t frames = s.airborne.size(), feet = s.feet.size();
-    const double w = 900, left = 70, right = 20, top = 50, plot_h = 260, bar_h = 14, bottom = 60;
-    const double h = top + plot_h + 20 + static_cast<double>(feet) * (bar_h + 6) + bottom;
+    const std::size_t frames = s.airborne.size();
+    const double dt = s.frame_time, seconds = static_cast<double>(std::max<std::size_t>(frames, 2) - 1) * dt;
     double peak = 0.05;
     for (const auto& f : s.feet)
         for (const double r : f.rise) peak = std::max(peak, r);
-    const double seconds = static_cast<double>(std::max<std::size_t>(frames, 2) - 1) * s.frame_time;
-    const auto x_of = [&](double t) { return left + (w - left - right) * t / seconds; };
-    const auto y_of = [&](double r) { return top + plot_h * (1 - std::max(0.0, r) / peak); };
-    svg_document svg(w, h, "Foot contacts of " + name);
-    svg.rect(0, 0, w, h, "#ffffff");
-    svg.text(w / 2, 24, "Foot contacts of " + name + " (" + std::to_string(frames) + " frames)", 15, "#222", "middle", true);
+    svg_chart chart(900, "Foot contacts of " + name + " (" + std::to_string(frames) + " frames)");
+    const chart_panel plot = chart.panel(260, 0, seconds, 0, peak, "rise above standing height (body heights)");
     for (const auto& phase : s.airborne_phases)
-        svg.rect(x_of(static_cast<double>(phase.first) * s.frame_time), top,
-                 std::max(1.0, x_of(static_cast<double>(phase.last + 1) * s.frame_time) - x_of(static_cast<double>(phase.first) * s.frame_time)),
-                 plot_h, "#fdebd0");
-    for (int k = 0; k <= 4; ++k) {
-        const double r = peak * k / 4;
-        svg.line(left, y_of(r), w - right, y_of(r), "#e4e4e4", 1);
-        svg.text(left - 6, y_of(r) + 4, format_number(r, 2), 11, "#444", "end");
+        plot.shade(static_cast<double>(phase.first) * dt, static_cast<double>(phase.last + 1) * dt, "#fdebd0");
+    plot.y_axis(4);
+    chart.skip(10);
+    chart_panel axis = plot;
+    for (std::size_t i = 0; i < s.feet.size(); ++i) {
+        std::vector<double> rise = s.feet[i].rise;
+        std::fill_n(rise.begin(), std::min(s.lead_in, rise.size()), std::nan(""));  // the rest pose left out
+        plot.series(rise, 0, dt, colours[i % 4]);
+        axis = chart.panel(14, 0, seconds, 0, 1);
+        chart.svg().text(axis.left - 6, axis.bottom() - 3, s.feet[i].name, 11, colours[i % 4], "end");
+        for (const auto& run : s.feet[i].contacts)
+            axis.shade(static_cast<double>(run.first) * dt, static_cast<double>(run.last + 1) * dt, colours[i % 4]);
     }
-    const double tick = seconds > 8 ? 2 : seconds > 4 ? 1 : seconds > 1.5 ? 0.5 : 0.1;
-    for (double t = 0; t <= seconds + 1e-9; t += tick) {
-        svg.line(x_of(t), top + plot_h, x_of(t), top + plot_h + 4, "#444", 1);
-        svg.text(x_of(t), h - bottom + 16, format_number(t, 3), 11, "#444", "middle");
-    }
-    svg.line(left, top + plot_h, w - right, top + plot_h, "#444", 1);
-    svg.line(left, top, left, top + plot_h, "#444", 1);
-    svg.text(left, top - 8, "rise above standing height (body heights)", 12, "#222", "start");
-    svg.text(w / 2, h - 18, "time (s); shaded: airborne", 12, "#222", "middle");
-    for (std::size_t i = 0; i < feet; ++i) {
-        const auto& foot = s.feet[i];
-        const char* colour = colours[i % 4];
-        std::string points;
-        for (std::size_t f = s.lead_in; f < frames; ++f)
-            points += svg_number(x_of(static_cast<double>(f) * s.frame_time)) + "," + svg_number(y_of(foot.rise[f])) + " ";
-        svg.raw("<polyline fill=\"none\" stroke=\"" + std::string(colour) + "\" stroke-width=\"1.5\" points=\"" + points + "\"/>");
-        const double y = top + plot_h + 20 + static_cast<double>(i) * (bar_h + 6);
-        svg.text(left - 6, y + bar_h - 3, foot.name, 11, colour, "end");
-        for (const auto& run : foot.contacts)
-            svg.rect(x_of(static_cast<double>(run.first) * s.frame_time), y,
-                     std::max(1.0, x_of(static_cast<double>(run.last + 1) * s.frame_time) - x_of(static_cast<double>(run.first) * s.frame_time)),
-                     bar_h, colour);
-    }
-    write_text_file(path, svg.str());
+    chart.x_axis(axis, 8, "time (s); shaded: airborne");
+    write_text_file(path, chart.str());
 }
 
 void run_contacts(const contacts_options& o) {

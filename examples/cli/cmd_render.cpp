@@ -270,7 +270,6 @@ void run_animate(const render_options& o, const clip_t& clip, const view_basis& 
 
     const std::string name = file_name(o.input), view_name = o.view + " view";
     svg_document svg(width, height, name + ": " + view_name + ", animated");
-    svg.rect(0, 0, width, height, "#ffffff");
     svg.text(10, 22, name + " (" + view_name + ", frames " + std::to_string(first) + "-" + std::to_string(last) + " at " +
                          format_number(clip.frame_rate(), 4) + " fps)",
              13, "#222", "start", true);
@@ -366,7 +365,6 @@ void run_render(const render_options& o) {
     const std::string name = file_name(o.input);
     const std::string view_name = o.view + " view";
     svg_document svg(width, height, name + ": " + view_name);
-    svg.rect(0, 0, width, height, "#ffffff");
     svg.text(10, 22, name + " (" + view_name + ", " + std::to_string(clip.frames()) + " frames at " +
                          format_number(clip.frame_rate(), 4) + " fps)",
              14, "#222", "start", true);

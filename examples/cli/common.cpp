@@ -416,6 +416,7 @@ std::string svg_document::str() const {
     out += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + w + "\" height=\"" + h +
            "\" viewBox=\"0 0 " + w + " " + h + "\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\">\n";
     out += "<title>" + xml_escape(title_) + "</title>\n";
+    out += "<rect x=\"0\" y=\"0\" width=\"" + w + "\" height=\"" + h + "\" fill=\"#ffffff\"/>\n";
     out += body_;
     out += "</svg>\n";
     return out;

@@ -158,7 +158,7 @@ std::string channel_list(const std::vector<anima::channel>& channels);
 /// Escapes text for XML character data and attribute values.
 std::string xml_escape(std::string_view text);
 
-/// A minimal SVG document builder: coordinates in pixels, y down.
+/// A minimal SVG document builder: coordinates in pixels, y down, on white.
 class svg_document {
 public:
     svg_document(double width, double height, std::string title);
@@ -177,6 +177,7 @@ public:
 
     double width() const noexcept { return width_; }
     double height() const noexcept { return height_; }
+    void set_height(double height) noexcept { height_ = height; }
     /// The complete document, XML declaration included.
     std::string str() const;
 
