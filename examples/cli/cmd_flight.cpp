@@ -5,6 +5,7 @@
 // after (--plot, the paper's Fig 7) and the figures (--json).
 #include "commands.hpp"
 #include "common.hpp"
+#include "svg_chart.hpp"
 #include "view_page.hpp"
 
 #include <anima/flight.hpp>
@@ -41,40 +42,18 @@ struct flight_options {
 /// optimised (up triangles).
 void write_plot(const std::string& path, const std::vector<double>& before, const std::vector<double>& after,
                 const std::string& title) {
-    const double w = 640, h = 400, left = 60, right = 20, top = 40, bottom = 50;
-    svg_document svg(w, h, title);
-    svg.rect(0, 0, w, h, "#ffffff");
-    const double t_max = std::max(before.back(), after.back());
-    const auto n = static_cast<double>(before.size());
-    const auto x_of = [&](double k) { return left + (w - left - right) * k / (n - 1); };
-    const auto y_of = [&](double t) { return h - bottom - (h - top - bottom) * t / t_max; };
-    svg.line(left, h - bottom, w - right, h - bottom, "#444", 1);
-    svg.line(left, top, left, h - bottom, "#444", 1);
-    for (int s = 0; s <= 4; ++s) {
-        const double t = t_max * s / 4;
-        svg.line(left - 4, y_of(t), w - right, y_of(t), "#e4e4e4", 1);
-        svg.text(left - 8, y_of(t) + 4, format_number(t, 3), 11, "#444", "end");
-    }
-    for (std::size_t k = 0; k < before.size(); ++k)
-        svg.text(x_of(static_cast<double>(k)), h - bottom + 16, std::to_string(k + 1), 11, "#444", "middle");
-    svg.text(w / 2, h - 12, "key frame", 12, "#222", "middle");
-    svg.text(16, top - 14, "time (s)", 12, "#222", "start");
-    svg.text(w / 2, 22, title, 14, "#222", "middle", true);
-    const auto triangle = [&](double x, double y, bool up, const char* colour) {
-        const double s = 6;
-        const double tip = up ? y - s : y + s, base = up ? y + s * 0.6 : y - s * 0.6;
-        svg.raw("<polygon points=\"" + svg_number(x - s) + "," + svg_number(base) + " " + svg_number(x + s) + "," +
-                svg_number(base) + " " + svg_number(x) + "," + svg_number(tip) + "\" fill=\"" + colour + "\"/>");
-    };
+    const double keys = static_cast<double>(before.size());
+    svg_chart chart(640, title, {}, 60, 20);
+    const chart_panel p = chart.panel(300, 1, keys, 0, std::max(before.back(), after.back()), "time (s)");
+    p.y_axis(4);
     for (std::size_t k = 0; k < before.size(); ++k) {
-        triangle(x_of(static_cast<double>(k)), y_of(before[k]), false, "#999999");
-        triangle(x_of(static_cast<double>(k)), y_of(after[k]), true, "#c0392b");
+        p.marker(static_cast<double>(k + 1), before[k], mark::down, "#999999");
+        p.marker(static_cast<double>(k + 1), after[k], mark::up, "#c0392b");
     }
-    triangle(left + 20, top + 6, false, "#999999");
-    svg.text(left + 32, top + 10, "initial timing", 12);
-    triangle(left + 150, top + 6, true, "#c0392b");
-    svg.text(left + 162, top + 10, "optimised timing", 12);
-    write_text_file(path, svg.str());
+    // Whole keys: steps of at least 1.
+    chart.x_axis(p, static_cast<int>(std::min(keys - 1, 12.0)), "key frame");
+    chart.legend({{"#999999", "initial timing", mark::down}, {"#c0392b", "optimised timing", mark::up}});
+    write_text_file(path, chart.str());
 }
 
 void run_flight(const flight_options& o) {
