@@ -3,6 +3,7 @@
 // one clip A[..FRAME] + transition + B placed where the transition ends.
 #include "commands.hpp"
 #include "common.hpp"
+#include "svg_chart.hpp"
 #include "view_page.hpp"
 
 #include <CLI/CLI.hpp>
@@ -34,43 +35,6 @@ void check_frame(std::size_t frame, const clip_t& c, const std::string& path, co
                       ")");
 }
 
-/// One panel of the feet plot: a value per frame of [first, last] for each
-/// foot, as the method left it (dashed) and planted (solid); frames where
-/// `shown` is false are gaps.
-struct feet_panel {
-    double top, height, peak;
-    std::string label;
-};
-
-/// The plot's frames [first, last] across `width` pixels from `left`.
-struct frame_axis {
-    std::size_t first, last;
-    double left, width;
-    double x(double frame) const {
-        return left + width * (frame - static_cast<double>(first)) / static_cast<double>(std::max<std::size_t>(last - first, 1));
-    }
-};
-
-void draw_feet_series(svg_document& svg, const feet_panel& panel, const std::vector<double>& values,
-                      const std::vector<bool>& shown, const frame_axis& axis, const char* colour, bool dashed) {
-    const auto y_of = [&](double v) { return panel.top + panel.height * (1 - std::clamp(v / panel.peak, 0.0, 1.0)); };
-    std::string points;
-    const auto flush = [&] {
-        if (!points.empty())
-            svg.raw("<polyline fill=\"none\" stroke=\"" + std::string(colour) + "\" stroke-width=\"" +
-                    (dashed ? "1.2\" stroke-dasharray=\"5,3\" opacity=\"0.8" : "1.8") + "\" points=\"" + points + "\"/>");
-        points.clear();
-    };
-    for (std::size_t f = axis.first; f <= axis.last; ++f) {
-        if (!shown[f]) {
-            flush();
-            continue;
-        }
-        points += svg_number(axis.x(static_cast<double>(f))) + "," + svg_number(y_of(values[f])) + " ";
-    }
-    flush();
-}
-
 /// --feet-plot: each foot's height above its standing height and, while it
 /// is on the ground, its horizontal speed (the skate), through the window
 /// and half a second either side, as the method left them and planted.
@@ -95,55 +59,35 @@ void write_feet_plot(const std::string& path, const std::string& title, const an
                 if (foot.in_contact[f] && f >= before.start_frame && f <= before.end_frame)
                     speed_peak = std::max(speed_peak, foot.speed[f]);
             }
-    const double w = 900, left = 80, right = 20, plot_w = w - left - right;
-    const feet_panel rise{70, 190, rise_peak * 1.05, "foot height above standing (body heights)"};
-    const feet_panel speed{rise.top + rise.height + 50, 190, speed_peak * 1.05,
-                           "horizontal speed on the ground: skate (body heights/s)"};
-    const double axis_y = speed.top + speed.height, h = axis_y + 80;
-    svg_document svg(w, h, title);
-    svg.rect(0, 0, w, h, "#ffffff");
-    svg.text(w / 2, 22, title, 14, "#222", "middle", true);
     std::string sub = "foot skate in the window: " + format_fixed(ratio_before, 2) + "x the clips' own";
-    if (planted) sub = "foot skate in the window: " + format_fixed(ratio_before, 2) + "x the clips' own as the method left it, " +
-                       format_fixed(ratio_after, 2) + "x planted";
-    svg.text(w / 2, 42, sub, 12, "#444", "middle");
-    const frame_axis axis{first, last, left, plot_w};
-    const double window_x = axis.x(static_cast<double>(std::max(before.start_frame, first)));
-    const double window_w = std::max(1.0, axis.x(static_cast<double>(std::min(before.end_frame, last))) - window_x);
-    for (const auto* panel : {&rise, &speed}) {
-        svg.rect(window_x, panel->top, window_w, panel->height, "#fdebd0");
-        for (const double v : nice_ticks(0, panel->peak, 4)) {
-            const double y = panel->top + panel->height * (1 - v / panel->peak);
-            svg.line(left, y, w - right, y, "#e4e4e4", 1);
-            svg.text(left - 6, y + 4, format_number(v, 3), 11, "#444", "end");
-        }
-        svg.line(left, panel->top + panel->height, w - right, panel->top + panel->height, "#444", 1);
-        svg.line(left, panel->top, left, panel->top + panel->height, "#444", 1);
-        svg.text(left, panel->top - 8, panel->label, 12, "#222", "start");
+    if (planted) sub += " as the method left it, " + format_fixed(ratio_after, 2) + "x planted";
+    svg_chart chart(900, title, sub, 80, 20);
+    const double t0 = static_cast<double>(first) * dt, t1 = static_cast<double>(last) * dt;
+    const chart_panel rise = chart.panel(190, t0, t1, 0, rise_peak * 1.05, "foot height above standing (body heights)");
+    chart.skip(28);
+    const chart_panel speed = chart.panel(190, t0, t1, 0, speed_peak * 1.05,
+                                          "horizontal speed on the ground: skate (body heights/s)");
+    for (const chart_panel* panel : {&rise, &speed}) {
+        panel->shade(static_cast<double>(before.start_frame) * dt, static_cast<double>(before.end_frame) * dt, "#fdebd0");
+        panel->y_axis(4);
     }
-    for (const double t : nice_ticks(static_cast<double>(first) * dt, static_cast<double>(last) * dt, 8)) {
-        const double x = axis.x(t / dt);
-        if (x < left - 0.5 || x > w - right + 0.5) continue;
-        svg.line(x, axis_y, x, axis_y + 4, "#444", 1);
-        svg.text(x, axis_y + 17, format_number(t, 3), 11, "#444", "middle");
-    }
-    svg.text(left + plot_w / 2, axis_y + 36, "time in the joined clip (s); shaded: the transition window", 12, "#222", "middle");
-    const std::vector<bool> every(n, true);
-    double legend_x = left;
+    chart.x_axis(speed, 8, "time in the joined clip (s); shaded: the transition window");
+    std::vector<legend_entry> legend;
     for (std::size_t i = 0; i < cb.feet.size(); ++i) {
         const char* colour = colours[i % 4];
         for (const bool dashed : {true, false}) {
-            const auto& s = dashed || !planted ? cb : ca;
             if (dashed && !planted) continue;
-            draw_feet_series(svg, rise, s.feet[i].rise, every, axis, colour, dashed);
-            draw_feet_series(svg, speed, s.feet[i].speed, s.feet[i].in_contact, axis, colour, dashed);
+            const auto& foot = (dashed || !planted ? cb : ca).feet[i];
+            std::vector<double> skate = foot.speed;  // on the ground only
+            for (std::size_t f = 0; f < skate.size(); ++f)
+                if (!foot.in_contact[f]) skate[f] = std::nan("");
+            rise.series(foot.rise, 0, dt, colour, dashed ? 1.2 : 1.8, dashed ? mark::dashed : mark::line);
+            speed.series(skate, 0, dt, colour, dashed ? 1.2 : 1.8, dashed ? mark::dashed : mark::line);
         }
-        svg.rect(legend_x, h - 22, 14, 4, colour);
-        svg.text(legend_x + 20, h - 16, cb.feet[i].name, 12, colour, "start");
-        legend_x += 30 + 8 * static_cast<double>(cb.feet[i].name.size());
+        legend.push_back({colour, cb.feet[i].name});
     }
-    if (planted) svg.text(w - right, h - 16, "dashed: as the method left them; solid: planted", 12, "#444", "end");
-    write_text_file(path, svg.str());
+    chart.legend(legend, planted ? "dashed: as the method left them; solid: planted" : "");
+    write_text_file(path, chart.str());
 }
 
 /// The text report of anima transition (what --json prints, for people).
