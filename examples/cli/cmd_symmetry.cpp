@@ -4,6 +4,7 @@
 // frame distance matrix (PNG, the paper's Fig 2).
 #include "commands.hpp"
 #include "common.hpp"
+#include "svg_chart.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -38,86 +39,50 @@ std::string describe(const symmetry_cli_options& o, const anima::symmetry_params
 
 void write_score_plot(const std::string& path, const std::string& input, const motion_range& m,
                       const anima::symmetry_result<double>& r, const std::string& settings, int min_pairs) {
-    const double width = 900, height = 380, left = 62, right = 24, top = 58, bottom = 56;
-    const double pw = width - left - right, ph = height - top - bottom;
     const std::size_t n = m.clip.frames();
     const double x0 = static_cast<double>(m.first), x1 = static_cast<double>(m.first + (n > 1 ? n - 1 : 1));
-    const auto X = [&](double frame) { return left + (frame - x0) / (x1 - x0) * pw; };
-    const auto Y = [&](double score) { return top + (1 - score) * ph; };
-
     const std::string range = std::to_string(m.first) + ".." + std::to_string(m.first + n - 1);
-    svg_document svg(width, height, "Symmetry scores of " + file_name(input));
-    svg.rect(0, 0, width, height, "white");
-    svg.text(left, 22, "Symmetry of " + file_name(input) + ", frames " + range + " (" + settings + ")", 14, "#222",
-             "start", true);
-    svg.text(left, 40,
-             "Eq 4 score per frame (1 = the frames around it mirror each other best); dots: the " +
-                 std::to_string(r.candidates.size()) + " turning candidates (Eq 5)" +
-                 (r.candidates.size() > max_plot_labels ? ", the " + std::to_string(max_plot_labels) + " highest labelled"
-                                                        : ""),
-             11, "#555");
-
+    svg_chart chart(900, "Symmetry of " + file_name(input) + ", frames " + range + " (" + settings + ")",
+                    "Eq 4 score per frame (1 = the frames around it mirror each other best); dots: the " +
+                        std::to_string(r.candidates.size()) + " turning candidates (Eq 5)" +
+                        (r.candidates.size() > max_plot_labels
+                             ? ", the " + std::to_string(max_plot_labels) + " highest labelled"
+                             : ""),
+                    62, 24);
+    const chart_panel p = chart.panel(266, x0, x1, 0, 1, "symmetry score");
     // Frames compared on too few pairs to be candidates (near the ends).
     bool shaded = false;
-    for (std::size_t k = 0; k < n;) {
-        if (r.pairs[k] >= min_pairs) {
-            ++k;
-            continue;
-        }
-        std::size_t end = k;
-        while (end + 1 < n && r.pairs[end + 1] < min_pairs) ++end;
-        const double a = std::max(left, X(static_cast<double>(m.first + k) - 0.5));
-        const double b = std::min(left + pw, X(static_cast<double>(m.first + end) + 0.5));
-        svg.rect(a, top, b - a, ph, "#eeeeee");
-        shaded = true;
-        k = end + 1;
-    }
-    if (shaded)
-        svg.text(left + pw, height - 12, "grey: fewer than " + std::to_string(min_pairs) + " pairs, never candidates", 11,
-                 "#555", "end");
-
-    // Grid and axes.
-    for (const double s : nice_ticks(0, 1, 5)) {
-        svg.line(left, Y(s), left + pw, Y(s), "#e4e4e4", 1);
-        svg.text(left - 6, Y(s) + 4, format_number(s, 3), 11, "#444", "end");
-    }
-    for (const double f : nice_ticks(x0, x1, 10)) {
-        svg.line(X(f), top + ph, X(f), top + ph + 5, "#444", 1);
-        svg.text(X(f), top + ph + 18, format_number(f, 10), 11, "#444", "middle");
-    }
-    svg.line(left, top, left, top + ph, "#444", 1);
-    svg.line(left, top + ph, left + pw, top + ph, "#444", 1);
-    svg.text(left + pw / 2, height - 12,
-             "frame (" + format_number(m.clip.frame_rate(), 4) + " frames per second, as the file says)", 12, "#222",
-             "middle");
-    svg.raw("<text x=\"16\" y=\"" + svg_number(top + ph / 2) + "\" font-size=\"12\" fill=\"#222\" text-anchor=\"middle\" "
-            "transform=\"rotate(-90 16 " + svg_number(top + ph / 2) + ")\">symmetry score</text>");
-
-    // The curve, over the frames that have pairs (not the first and last).
-    std::string points;
     for (std::size_t k = 0; k < n; ++k) {
-        if (r.pairs[k] == 0) continue;
-        if (!points.empty()) points += ' ';
-        points += svg_number(X(static_cast<double>(m.first + k))) + "," + svg_number(Y(r.score[static_cast<Eigen::Index>(k)]));
+        if (r.pairs[k] >= min_pairs) continue;
+        const std::size_t begin = k;
+        while (k + 1 < n && r.pairs[k + 1] < min_pairs) ++k;
+        p.shade(x0 + static_cast<double>(begin) - 0.5, x0 + static_cast<double>(k) + 0.5, "#eeeeee");
+        shaded = true;
     }
-    svg.raw("<polyline fill=\"none\" stroke=\"#1f63c6\" stroke-width=\"1.4\" stroke-linejoin=\"round\" points=\"" + points +
-            "\"/>");
+    p.y_axis(5);
+    // The curve, over the frames that have pairs (not the first and last).
+    std::vector<double> score(n);
+    for (std::size_t k = 0; k < n; ++k) score[k] = r.pairs[k] ? r.score[static_cast<Eigen::Index>(k)] : std::nan("");
+    p.series(score, x0, 1, "#1f63c6", 1.4);
 
     // Candidates: every one a dot; labels for the highest that do not
     // collide with a label already placed (candidates are sorted by score).
     std::vector<double> labelled;
     for (const auto& c : r.candidates) {
-        const double x = X(static_cast<double>(m.first + c.frame)), y = Y(c.score);
-        svg.circle(x, y, 3.2, "#d0342c");
+        const double frame = static_cast<double>(m.first + c.frame), x = p.x(frame);
+        p.marker(frame, c.score, mark::dot, "#d0342c");
         if (labelled.size() >= max_plot_labels) continue;
         const bool clear = std::none_of(labelled.begin(), labelled.end(), [x](double lx) { return std::abs(lx - x) < 28; });
         if (!clear) continue;
         labelled.push_back(x);
         // Near the plot's sides the label leans inwards, clear of the axis.
-        const char* anchor = x < left + 10 ? "start" : x > left + pw - 10 ? "end" : "middle";
-        svg.text(x, y - 7, std::to_string(m.first + c.frame), 10, "#a0231c", anchor);
+        const char* anchor = x < p.left + 10 ? "start" : x > p.right() - 10 ? "end" : "middle";
+        chart.svg().text(x, p.y(c.score) - 7, std::to_string(m.first + c.frame), 10, "#a0231c", anchor);
     }
-    write_text_file(path, svg.str());
+    chart.x_axis(p, 10, "frame (" + format_number(m.clip.frame_rate(), 4) + " frames per second, as the file says)");
+    if (shaded)
+        chart.legend({{"#eeeeee", "fewer than " + std::to_string(min_pairs) + " pairs, never candidates", mark::box}});
+    write_text_file(path, chart.str());
 }
 
 /// The distance matrix as an SVG figure: the image, frame axes, a title
