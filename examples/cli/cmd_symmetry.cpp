@@ -89,41 +89,28 @@ void write_score_plot(const std::string& path, const std::string& input, const m
 /// and a grey scale bar with the distance's units.
 std::string matrix_svg(const std::string& png, const std::string& name, const motion_range& m,
                        const anima::symmetry_params<double>& params, double white) {
-    const double side = 560, left = 70, top = 60, right = 180, bottom = 56;
-    const double width = left + side + right, height = top + side + bottom;
+    const double side = 560;
     const std::size_t n = m.clip.frames();
-    const double first = static_cast<double>(m.first), last = static_cast<double>(m.first + n - 1);
     const bool mahalanobis = params.distance.metric == anima::frame_metric::mahalanobis;
-    svg_document svg(width, height, "Frame distances of " + name);
-    svg.rect(0, 0, width, height, "#ffffff");
-    svg.text(left, 22, "Frame distances of " + name + ", frames " + format_number(first, 10) + ".." + format_number(last, 10),
-             14, "#222", "start", true);
-    svg.text(left, 40, std::string(mahalanobis ? "square root of Eq 2 (Mahalanobis)" : "Eq 1 (L2)") +
-                           " between every two frames; dark valleys across the diagonal: where the motion mirrors itself",
-             11, "#555");
-    svg.image(left, top, side, side, png);
-    svg.rect(left, top, side, side, "none", "#444", 1);
-    const auto at = [&](double frame) { return (frame - first + 0.5) / static_cast<double>(n) * side; };
-    for (const double f : nice_ticks(first, last, 8)) {
-        svg.line(left + at(f), top + side, left + at(f), top + side + 4, "#444", 1);
-        svg.text(left + at(f), top + side + 16, format_number(f, 10), 10, "#444", "middle");
-        svg.line(left - 4, top + at(f), left, top + at(f), "#444", 1);
-        svg.text(left - 6, top + at(f) + 3, format_number(f, 10), 10, "#444", "end");
-    }
-    const std::string fps = format_number(m.clip.frame_rate(), 4);
-    svg.text(left + side / 2, height - 14, "frame (" + fps + " per second)", 12, "#222", "middle");
-    svg.raw("<text x=\"16\" y=\"" + svg_number(top + side / 2) + "\" font-size=\"12\" fill=\"#222\" text-anchor=\"middle\" "
-            "transform=\"rotate(-90 16 " + svg_number(top + side / 2) + ")\">frame (" + fps + " per second)</text>");
-    const double bx = left + side + 24;
-    svg.raw("<defs><linearGradient id=\"grey\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\"><stop offset=\"0\" stop-color=\"#000\"/>"
-            "<stop offset=\"1\" stop-color=\"#fff\"/></linearGradient></defs>");
-    svg.rect(bx, top, 14, side / 2, "url(#grey)", "#444", 0.5);
-    svg.text(bx + 20, top + 9, format_number(white, 3) + " or more", 10, "#333");
-    svg.text(bx + 20, top + 22, "(99th percentile)", 10, "#333");
-    svg.text(bx + 20, top + side / 2, "0: the same pose", 10, "#333");
-    svg.text(bx, top + side / 2 + 22, mahalanobis ? "distance: sqrt of Eq 2," : "distance: Eq 1,", 10, "#333");
-    svg.text(bx, top + side / 2 + 35, mahalanobis ? "feature standard deviations" : "the features' units", 10, "#333");
-    return svg.str();
+    svg_chart chart(70 + side + 180, "Frame distances of " + name,
+                    "frames " + std::to_string(m.first) + ".." + std::to_string(m.first + n - 1) + ": " +
+                        (mahalanobis ? "square root of Eq 2 (Mahalanobis)" : "Eq 1 (L2)") +
+                        " between every two frames; dark valleys across the diagonal: where the motion mirrors itself",
+                    70, 180);
+    // Pixel edges half a frame either side; row 0 (the first frame) at the top.
+    const double first = static_cast<double>(m.first) - 0.5, last = first + static_cast<double>(n);
+    const chart_panel p = chart.panel(side, first, last, last, first, "frame, top to bottom");
+    chart.svg().image(p.left, p.top, side, side, png);
+    chart.svg().rect(p.left, p.top, side, side, "none", "#444", 1);
+    p.y_axis(8, false);
+    chart.x_axis(p, 8, "frame (" + format_number(m.clip.frame_rate(), 4) + " per second)");
+    colour_bar(chart.svg(), p.right() + 24, p.top, side / 2, "grey", {"#000", "#fff"},
+               {{format_number(white, 3) + " or more", 9},
+                {"(99th percentile)", 22},
+                {"0: the same pose", side / 2},
+                {mahalanobis ? "distance: sqrt of Eq 2," : "distance: Eq 1,", side / 2 + 22},
+                {mahalanobis ? "feature standard deviations" : "the features' units", side / 2 + 35}});
+    return chart.str();
 }
 
 struct matrix_image {
