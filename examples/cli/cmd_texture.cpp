@@ -9,6 +9,7 @@
 // paper's Fig 3 does.
 #include "commands.hpp"
 #include "common.hpp"
+#include "svg_chart.hpp"
 #include "view_page.hpp"
 
 #include <anima/texture.hpp>
@@ -174,7 +175,6 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
 /// legend of the marks.
 std::string plot_svg(const plot_image& img, const std::string& name, const std::vector<clip_t>& inputs,
                      const anima::motion_texture<double>& t) {
-    const clip_t& input = inputs.front();
     const bool several = inputs.size() > 1;
     std::size_t input_frames = 0;
     std::string sizes;
@@ -182,96 +182,59 @@ std::string plot_svg(const plot_image& img, const std::string& name, const std::
         sizes += (input_frames ? " + " : "") + std::to_string(c.frames());
         input_frames += c.frames();
     }
-    const double left = 150, right = 200, top = 70, axis = 52;
-    const double w = img.width, panel = img.panel, strip = plot_image::strip;
-    const double in_top = top, out_top = top + strip + panel + axis;  // each panel's strip
-    const std::string title = "Motion texture of " + name +
-                              (several ? ": the inputs one after another (" + sizes : ": the input (" + sizes) +
-                              " frames) and the texture (" + std::to_string(t.motion.frames()) + " frames), one row per DOF";
-    const std::string caption = std::string("colour: each DOF's value within its range in the ") +
+    const std::string caption = std::string("one row per DOF; colour: each DOF's value within its range in the ") +
                                 (several ? "inputs" : "input") +
                                 " (rotations in the file's Euler angles, the root's height); still DOFs and the root's "
                                 "ground position left out";
-    // Wide enough for the title and caption too (about 0.6 em a character).
-    const double text_width = 24 + std::max(0.6 * 14 * static_cast<double>(title.size()),
-                                            0.6 * 11 * static_cast<double>(caption.size()));
-    const double width = std::max(left + w + right, text_width), height = out_top + strip + panel + axis + 16;
-    const double fps = input.frame_rate();
-    svg_document svg(width, height, "Motion texture of " + name + ": DOF x frame");
-    svg.rect(0, 0, width, height, "#ffffff");
-    svg.text(12, 22, title, 14, "#222", "start", true);
-    svg.text(12, 40, caption, 11, "#555");
+    const double left = 150, w = img.width, strip = plot_image::strip, panel = img.panel;
+    // Wide enough for the caption too (about 0.6 em a character).
+    const double width = std::max(left + w + 200, 24 + 0.6 * 11 * static_cast<double>(caption.size()));
+    svg_chart chart(width, "Motion texture of " + name + ": DOF x frame", caption, left, width - left - w);
+    svg_document& svg = chart.svg();
     const std::string png = png_bytes(img.width, img.height, 3, img.rgb, "--plot");
-    // The image holds both panels; drawn once, whole, the axes between.
-    const auto texture_pixels = static_cast<double>(img.texture_top() - plot_image::strip);
-    svg.raw("<svg x=\"" + svg_number(left) + "\" y=\"" + svg_number(in_top) + "\" width=\"" + svg_number(w) +
-            "\" height=\"" + svg_number(strip + panel) + "\" viewBox=\"0 0 " + svg_number(img.width) + " " +
-            svg_number(strip + panel) + "\" preserveAspectRatio=\"none\">");
-    svg.image(0, 0, img.width, img.height, png);
-    svg.raw("</svg>");
-    svg.raw("<svg x=\"" + svg_number(left) + "\" y=\"" + svg_number(out_top) + "\" width=\"" + svg_number(w) +
-            "\" height=\"" + svg_number(strip + panel) + "\" viewBox=\"0 " + svg_number(texture_pixels) + " " +
-            svg_number(img.width) + " " + svg_number(strip + panel) + "\" preserveAspectRatio=\"none\">");
-    svg.image(0, 0, img.width, img.height, png);
-    svg.raw("</svg>");
-    // Panel titles, frame axes with seconds.
-    const auto frame_axis = [&](double y, std::size_t frames, const std::string& what) {
-        const double pixels = static_cast<double>(frames) * img.scale;
-        svg.line(left, y, left + pixels, y, "#444", 1);
-        for (const double f : nice_ticks(0, static_cast<double>(frames - 1), 10)) {
-            const double x = left + f * img.scale;
-            svg.line(x, y, x, y + 4, "#444", 1);
-            svg.text(x, y + 15, format_number(f, 10), 10, "#444", "middle");
-        }
-        svg.text(left + pixels, y + 28, "frame of the " + what + " (" + format_number(fps, 4) + " per second: " +
-                                            format_number(static_cast<double>(frames) / fps, 3) + " s)",
-                 11, "#222", "end");
-    };
-    svg.text(left, in_top - 6, several ? "inputs" : "input", 12, "#222", "start", true);
-    svg.text(left, out_top - 6, "texture", 12, "#222", "start", true);
-    frame_axis(in_top + strip + panel, input_frames, several ? "inputs" : "input");
-    frame_axis(out_top + strip + panel, t.motion.frames(), "texture");
-    // Joint names at their groups of rows (the rows of one joint are adjacent).
+    const double rate = inputs.front().frame_rate();
     const auto& layout = t.texton.layout;
-    const auto& sk = input.skeleton();
-    for (const double panel_top : {in_top + strip, out_top + strip}) {
+    // The image holds both panels: each shows its part of it, whole.
+    const auto image_panel = [&](std::size_t frames, int pixel_top, const std::string& label, const std::string& what) {
+        const auto n = static_cast<double>(frames);
+        const chart_panel p = chart.panel(strip + panel, 0, n, 0, 1, label, n * img.scale);
+        svg.raw("<svg x=\"" + svg_number(left) + "\" y=\"" + svg_number(p.top) + "\" width=\"" + svg_number(w) +
+                "\" height=\"" + svg_number(strip + panel) + "\" viewBox=\"0 " + std::to_string(pixel_top) + " " +
+                svg_number(w) + " " + svg_number(strip + panel) + "\" preserveAspectRatio=\"none\">");
+        svg.image(0, 0, img.width, img.height, png);
+        svg.raw("</svg>");
+        chart.x_axis(p, 10, "frame of the " + what + " (" + format_number(rate, 4) + " per second: " +
+                                format_number(n / rate, 3) + " s)");
+        // Joint names at their groups of rows (the rows of one joint are adjacent).
         for (std::size_t i = 0; i < img.shown.size();) {
             const std::size_t joint = layout.dofs[static_cast<std::size_t>(img.shown[i])].joint;
             std::size_t j = i;
             while (j + 1 < img.shown.size() && layout.dofs[static_cast<std::size_t>(img.shown[j + 1])].joint == joint) ++j;
-            const double y0 = panel_top + static_cast<double>(i * static_cast<std::size_t>(img.row_h));
-            const double y1 = panel_top + static_cast<double>((j + 1) * static_cast<std::size_t>(img.row_h));
+            const double y0 = p.top + strip + static_cast<double>(i * static_cast<std::size_t>(img.row_h));
+            const double y1 = p.top + strip + static_cast<double>((j + 1) * static_cast<std::size_t>(img.row_h));
             svg.line(left - 4, y0 + 0.5, left - 4, y1 - 0.5, i % 2 ? "#999" : "#555", 2);
             const double size = std::min(9.0, std::max(6.0, y1 - y0));
-            if (y1 - y0 >= 6) svg.text(left - 8, (y0 + y1) / 2 + size / 3, sk[joint].name, size, "#333", "end");
+            if (y1 - y0 >= 6) svg.text(left - 8, (y0 + y1) / 2 + size / 3, inputs[0].skeleton()[joint].name, size, "#333", "end");
             i = j + 1;
         }
-    }
-    // Colour bar.
-    const double bx = left + w + 24, by = top + strip, bh = panel;
-    svg.raw("<defs><linearGradient id=\"viridis\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\">"
-            "<stop offset=\"0\" stop-color=\"rgb(68,1,84)\"/><stop offset=\"0.25\" stop-color=\"rgb(59,82,139)\"/>"
-            "<stop offset=\"0.5\" stop-color=\"rgb(33,145,140)\"/><stop offset=\"0.75\" stop-color=\"rgb(94,201,98)\"/>"
-            "<stop offset=\"1\" stop-color=\"rgb(253,231,37)\"/></linearGradient></defs>");
-    svg.rect(bx, by, 14, bh, "url(#viridis)", "#444", 0.5);
-    svg.text(bx + 20, by + 9, "the DOF's", 10, "#333");
-    svg.text(bx + 20, by + 21, "largest value", 10, "#333");
-    svg.text(bx + 20, by + bh / 2 + 4, "(per row)", 10, "#333");
-    svg.text(bx + 20, by + bh - 12, "smallest value", 10, "#333");
-    svg.text(bx + 20, by + bh, "in the input", 10, "#333");
-    // Legend of the marks.
-    const double ly = out_top + strip;
-    const std::pair<const char*, std::string> marks[] = {
-        {"rgb(40,160,70)", "M1: first " + std::to_string(t.texton.m) + " frames" + (several ? " of each" : "")},
-        {"rgb(40,90,200)", "M2: last " + std::to_string(t.texton.m) + " frames" + (several ? " of each" : "")},
-        {"rgb(240,140,20)", "pass through the overlap"},
-        {"rgb(230,20,20)", "graph-cut seam of the row"}};
-    for (std::size_t k = 0; k < 4; ++k) {
-        const double y = ly + static_cast<double>(k) * 18;
-        svg.rect(bx, y, 14, 10, marks[k].first);
-        svg.text(bx + 20, y + 9, marks[k].second, 10, "#333");
-    }
-    return svg.str();
+        return p;
+    };
+    const chart_panel in = image_panel(input_frames, 0,
+                                       several ? "the inputs one after another (" + sizes + " frames)"
+                                               : "the input (" + sizes + " frames)",
+                                       several ? "inputs" : "input");
+    image_panel(t.motion.frames(), img.texture_top() - plot_image::strip,
+                "the texture (" + std::to_string(t.motion.frames()) + " frames)", "texture");
+    colour_bar(svg, left + w + 24, in.top + strip, panel, "viridis",
+               {"rgb(68,1,84)", "rgb(59,82,139)", "rgb(33,145,140)", "rgb(94,201,98)", "rgb(253,231,37)"},
+               {{"the DOF's", 9}, {"largest value", 21}, {"(per row)", panel / 2 + 4}, {"smallest value", panel - 12},
+                {several ? "in the inputs" : "in the input", panel}});
+    const std::string of_each = several ? " of each" : "";
+    chart.legend({{"rgb(40,160,70)", "M1: first " + std::to_string(t.texton.m) + " frames" + of_each, mark::box},
+                  {"rgb(40,90,200)", "M2: last " + std::to_string(t.texton.m) + " frames" + of_each, mark::box},
+                  {"rgb(240,140,20)", "pass through the overlap", mark::box},
+                  {"rgb(230,20,20)", "graph-cut seam of the row", mark::box}});
+    return chart.str();
 }
 
 void write_plot(const std::string& path, const std::vector<clip_t>& inputs, const anima::motion_texture<double>& t,
