@@ -177,21 +177,14 @@ void register_flight(CLI::App& app) {
         ->check(CLI::IsMember({"somersault"}));
     sub->add_option("--clip", opts->clip, "Keys from the longest airborne phase of a recorded clip instead of KEYS.json")
         ->type_name("CLIP.bvh");
-    sub->add_option("--keys", opts->keys, "Keys placed on the airborne phase of --clip")
-        ->check(integer_in(2, 1000))
-        ->capture_default_str();
-    sub->add_option("--model", opts->model, "1: key times and poses within tolerances; 2: key times only")
-        ->check(CLI::IsMember({1, 2}))
-        ->capture_default_str();
-    sub->add_option("--iterations", opts->iterations, "Most Levenberg-Marquardt iterations")
-        ->check(integer_in(0, 100000))
-        ->capture_default_str();
-    sub->add_option("--quadrature", opts->quadrature, "Gauss-Legendre points per key interval (1..5)")
-        ->check(integer_in(1, 5))
-        ->capture_default_str();
-    sub->add_option("--body-mass", opts->body_mass, "Body mass in kg (when KEYS.json does not give one)")
-        ->check(number_in(1, 1000))
-        ->capture_default_str();
+    add_setting(*sub, "--keys", opts->keys, "Keys placed on the airborne phase of --clip", integer_in(2, 1000));
+    add_setting(*sub, "--model", opts->model, "1: key times and poses within tolerances; 2: key times only",
+                CLI::IsMember({1, 2}));
+    add_setting(*sub, "--iterations", opts->iterations, "Most Levenberg-Marquardt iterations", integer_in(0, 100000));
+    add_setting(*sub, "--quadrature", opts->quadrature, "Gauss-Legendre points per key interval (1..5)",
+                integer_in(1, 5));
+    add_setting(*sub, "--body-mass", opts->body_mass, "Body mass in kg (when KEYS.json does not give one)",
+                number_in(1, 1000));
     sub->add_option("-o,--output", opts->output, "Write the optimised motion (60 frames/s) to this BVH file")
         ->type_name("OUT.bvh");
     sub->add_option("--plot", opts->plot, "Plot initial and optimised key times (SVG)")->type_name("OUT.svg");

@@ -202,9 +202,7 @@ void register_playback(CLI::App& app) {
         ->check(integer_in(1, max_frames));
     sub->add_option("-o,--output", opts->output, "Write the new motion to this BVH file")->type_name("OUT.bvh");
     add_view_option(*sub, opts->view, "the input and the new motion, the turns marked");
-    sub->add_option("--seed", opts->seed, "Seed of the random turns (same seed, same motion)")
-        ->check(count_up_to(~0ULL))
-        ->capture_default_str();
+    add_setting(*sub, "--seed", opts->seed, "Seed of the random turns (same seed, same motion)", count_up_to(~0ULL));
     sub->add_option("--root", opts->root,
                     "The root's ground path: recorded (the source frame's), in_place, accumulated (the source's "
                     "steps added up) or keep_direction (reversed steps negated)")

@@ -222,9 +222,7 @@ void register_poisson(CLI::App& app) {
     sub->add_option("--rhs", opts->rhs, "Right-hand side f: 'random' (uniform in [-1, 1]) or a CSV file of H rows of W numbers")
         ->type_name("random|FILE.csv")
         ->capture_default_str();
-    sub->add_option("--seed", opts->seed, "Seed of the random right-hand side")
-        ->check(count_up_to(~0ULL))
-        ->capture_default_str();
+    add_setting(*sub, "--seed", opts->seed, "Seed of the random right-hand side", count_up_to(~0ULL));
     sub->add_option("--solver", opts->solver, "multigrid, dst (sine/cosine transform), cg or cg-ic (Eigen's CG, with IncompleteCholesky)")
         ->check(CLI::IsMember({"multigrid", "dst", "cg", "cg-ic"}))
         ->capture_default_str();
@@ -232,18 +230,12 @@ void register_poisson(CLI::App& app) {
     sub->add_option("--tolerance", opts->tolerance, "Stop at this relative residual ||b - Ax|| / ||b|| (multigrid, cg)")
         ->check(number_in(0, 1, true, true))
         ->capture_default_str();
-    sub->add_option("--cycle", opts->cycle, "Multigrid cycle: v or w")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::multigrid_cycle>()))
-        ->capture_default_str();
-    sub->add_option("--pre", opts->pre, "Multigrid smoothing sweeps before the coarse correction")
-        ->check(integer_in(0, 1000))
-        ->capture_default_str();
-    sub->add_option("--post", opts->post, "Multigrid smoothing sweeps after it")
-        ->check(integer_in(0, 1000))
-        ->capture_default_str();
-    sub->add_option("--max-cycles", opts->max_cycles, "Most multigrid cycles")
-        ->check(integer_in(1, 100000))
-        ->capture_default_str();
+    add_setting(*sub, "--cycle", opts->cycle, "Multigrid cycle: v or w",
+                CLI::IsMember(anima::enum_name_list<anima::multigrid_cycle>()));
+    add_setting(*sub, "--pre", opts->pre, "Multigrid smoothing sweeps before the coarse correction",
+                integer_in(0, 1000));
+    add_setting(*sub, "--post", opts->post, "Multigrid smoothing sweeps after it", integer_in(0, 1000));
+    add_setting(*sub, "--max-cycles", opts->max_cycles, "Most multigrid cycles", integer_in(1, 100000));
     sub->add_option("--out", opts->output, "Write u as CSV, H rows of W numbers")->type_name("U.csv");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_poisson(*opts); });

@@ -448,9 +448,8 @@ void register_render(CLI::App& app) {
                                   "pages and READMEs) instead of a filmstrip")
                         ->excludes(opts->frames_opt)
                         ->excludes(count);
-    sub->add_option("--fps", opts->fps, "--animate: frames per second kept from the clip (every k-th frame)")
-        ->check(number_in(1, 240))
-        ->capture_default_str()
+    add_setting(*sub, "--fps", opts->fps, "--animate: frames per second kept from the clip (every k-th frame)",
+                number_in(1, 240))
         ->needs(animate);
     opts->span_opt = sub->add_option("--span", opts->span, "--animate: the frames to play, A-B (default: all)")
                          ->type_name("A-B")

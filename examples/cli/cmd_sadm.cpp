@@ -321,16 +321,12 @@ void register_sadm(CLI::App& app) {
     CLI::App* train = sadm->add_subcommand("train", "Build the shape and grey-level models and the b_s -> b_g mapping");
     train->add_option("DIR", t->dir, dir_help)->required()->type_name("DIR");
     train->add_option("--out", t->output, "Model file to write")->required()->type_name("MODEL");
-    train->add_option("--regressor", t->regressor, "b_s -> b_g mapping")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::regressor_kind>()))
-        ->capture_default_str();
+    add_setting(*train, "--regressor", t->regressor, "b_s -> b_g mapping",
+                CLI::IsMember(anima::enum_name_list<anima::regressor_kind>()));
     train->add_option("--hold-out", t->hold_out, split_help)->check(hold_out_rule())->type_name("every:N|last:N");
-    train->add_option("--shape-variance", t->shape_variance, "Fraction of shape variance kept")
-        ->check(number_in(0, 1, true))
-        ->capture_default_str();
-    train->add_option("--grey-variance", t->grey_variance, "Fraction of grey-level variance kept")
-        ->check(number_in(0, 1, true))
-        ->capture_default_str();
+    add_setting(*train, "--shape-variance", t->shape_variance, "Fraction of shape variance kept", number_in(0, 1, true));
+    add_setting(*train, "--grey-variance", t->grey_variance, "Fraction of grey-level variance kept",
+                number_in(0, 1, true));
     train->add_option("--grey-components", t->grey_components, "Keep this many grey parameters instead (0: by variance)")
         ->check(integer_in(0, 100000));
     train->add_flag("--progress", t->progress, "Report progress on stderr");

@@ -154,12 +154,10 @@ void register_smooth(CLI::App& app) {
     sub->add_option("--mode", opts->mode, "1d: each DOF along time; 2d: the frames x DOF matrix as an image (the paper)")
         ->check(CLI::IsMember(anima::enum_name_list<anima::seam_smoothing_form>()))
         ->capture_default_str();
-    sub->add_option("--solver", opts->solver, "multigrid or dst")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::poisson_method>()))
-        ->capture_default_str();
-    sub->add_option("--radius", opts->radius, "Also replace this many frame differences on each side of a seam")
-        ->check(count_up_to(max_frames))
-        ->capture_default_str();
+    add_setting(*sub, "--solver", opts->solver, "multigrid or dst",
+                CLI::IsMember(anima::enum_name_list<anima::poisson_method>()));
+    add_setting(*sub, "--radius", opts->radius, "Also replace this many frame differences on each side of a seam",
+                count_up_to(max_frames));
     sub->add_option("--dof-sides", opts->dof_sides,
                     "2d mode: beyond the first and last DOF, neumann (free) or dirichlet (the paper's zero padding)")
         ->check(CLI::IsMember(anima::enum_name_list<anima::boundary>()))

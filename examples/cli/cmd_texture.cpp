@@ -650,10 +650,8 @@ void register_texture(CLI::App& app) {
     opts->overlap_opt = sub->add_option("--overlap", opts->overlap, "Frames where M2 and M1 overlap (2..M); default 50, or M / 2")
                             ->type_name("N")
                             ->check(integer_in(2, max_frames));
-    sub->add_option("--blend", opts->blend, "Frames of each fade (0: half the overlap)")
-        ->type_name("K")
-        ->check(count_up_to(max_frames))
-        ->capture_default_str();
+    add_setting(*sub, "--blend", opts->blend, "Frames of each fade (0: half the overlap)", count_up_to(max_frames))
+        ->type_name("K");
     sub->add_flag("--hard-cut", opts->hard_cut, "Switch at the seam without a fade");
     sub->add_option("--order", opts->order,
                     "Several clips: loop through them in the order given, or in the order whose seams cost least "
@@ -663,9 +661,8 @@ void register_texture(CLI::App& app) {
     sub->add_option("--capacity", opts->capacity, "Seam capacity: normalized (Kwatra's M / grad), exponential or plain")
         ->check(CLI::IsMember(anima::enum_name_list<anima::seam_capacity>()))
         ->capture_default_str();
-    sub->add_option("--metric", opts->metric, "Frame distance of the offset search: mahalanobis (Eq 2) or l2 (Eq 1)")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::frame_metric>()))
-        ->capture_default_str();
+    add_setting(*sub, "--metric", opts->metric, "Frame distance of the offset search: mahalanobis (Eq 2) or l2 (Eq 1)",
+                CLI::IsMember(anima::enum_name_list<anima::frame_metric>()));
     sub->add_option("--neighbour-weight", opts->neighbour_weight, "Tie between neighbouring joints' seams (0: independent)")
         ->type_name("W")
         ->check(number_in(0, 1e6))
@@ -673,24 +670,20 @@ void register_texture(CLI::App& app) {
     sub->add_option("--smoothing", opts->smoothing, "Poisson smoothing: 1d (per DOF), 2d (the DOF x frame image) or none")
         ->check(CLI::IsMember({"1d", "2d", "none"}))
         ->capture_default_str();
-    sub->add_option("--solver", opts->solver, "Poisson solver: multigrid or dst")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::poisson_method>()))
-        ->capture_default_str();
+    add_setting(*sub, "--solver", opts->solver, "Poisson solver: multigrid or dst",
+                CLI::IsMember(anima::enum_name_list<anima::poisson_method>()));
     sub->add_flag("--keep-heading", opts->keep_heading,
                   "Compare and blend the figure's heading like any rotation (it then turns back in the overlap)");
-    sub->add_option("--root", opts->root, "The root's ground path: accumulated, keep_direction, in_place or recorded")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::root_path>()))
-        ->capture_default_str();
+    add_setting(*sub, "--root", opts->root, "The root's ground path: accumulated, keep_direction, in_place or recorded",
+                CLI::IsMember(anima::enum_name_list<anima::root_path>()));
     auto* symmetric = sub->add_flag("--symmetric", opts->symmetric,
                                     "Mix in symmetric playback: at turning candidates play backwards for a while");
-    sub->add_option("--mix-probability", opts->mix_probability, "Chance of a symmetric passage at each candidate")
+    add_setting(*sub, "--mix-probability", opts->mix_probability, "Chance of a symmetric passage at each candidate",
+                number_in(0, 1))
         ->type_name("P")
-        ->check(number_in(0, 1))
-        ->capture_default_str()
         ->needs(symmetric);
-    sub->add_option("--seed", opts->seed, "Seed of the symmetric passages (same seed, same motion)")
-        ->check(count_up_to(~0ULL))
-        ->capture_default_str();
+    add_setting(*sub, "--seed", opts->seed, "Seed of the symmetric passages (same seed, same motion)",
+                count_up_to(~0ULL));
     opts->first_opt = sub->add_option("--first", opts->first,
                                       "First frame to use of every clip (default: after a rest pose the clip starts with, if any)")
                           ->type_name("FRAME")

@@ -240,10 +240,8 @@ void register_transition(CLI::App& app) {
         ->required()
         ->type_name("FRAME")
         ->check(count_up_to(max_frames));
-    sub->add_option("--to", opts->to, "Frame of B the transition arrives at")
-        ->type_name("FRAME")
-        ->check(count_up_to(max_frames))
-        ->capture_default_str();
+    add_setting(*sub, "--to", opts->to, "Frame of B the transition arrives at", count_up_to(max_frames))
+        ->type_name("FRAME");
     sub->add_option("-o,--output", opts->output, "Write the joined clip to this BVH file")->type_name("OUT.bvh");
     add_view_option(*sub, opts->view, "A, B and the joined clip, the transition marked");
     sub->add_option("--feet-plot", opts->feet_plot,
@@ -256,18 +254,12 @@ void register_transition(CLI::App& app) {
     sub->add_option("--timing", opts->timing, "t_i from mean angular speeds (velocity) or accelerations (acceleration)")
         ->check(CLI::IsMember(anima::enum_name_list<anima::timing_model>()))
         ->capture_default_str();
-    sub->add_option("--min-duration", opts->min_duration, "Shortest transition, seconds")
-        ->check(non_negative_number())
-        ->capture_default_str();
-    sub->add_option("--max-duration", opts->max_duration, "Longest transition, seconds")
-        ->check(non_negative_number())
-        ->capture_default_str();
-    sub->add_option("--crossfade-time", opts->crossfade, "Length of the crossfade baseline, seconds")
-        ->check(non_negative_number())
-        ->capture_default_str();
-    sub->add_option("--halflife", opts->halflife, "Half-life of the inertialization spring, seconds")
-        ->check(positive_number())
-        ->capture_default_str();
+    add_setting(*sub, "--min-duration", opts->min_duration, "Shortest transition, seconds", non_negative_number());
+    add_setting(*sub, "--max-duration", opts->max_duration, "Longest transition, seconds", non_negative_number());
+    add_setting(*sub, "--crossfade-time", opts->crossfade, "Length of the crossfade baseline, seconds",
+                non_negative_number());
+    add_setting(*sub, "--halflife", opts->halflife, "Half-life of the inertialization spring, seconds",
+                positive_number());
     sub->add_flag("--no-plant-feet", opts->no_plant_feet,
                   "Leave feet that are on the ground through the window sliding as the method left them");
     sub->add_flag("--root-from-feet,!--legs-only", opts->root_from_feet,

@@ -465,10 +465,9 @@ void write_png(const std::string& path, int width, int height, int channels, con
 // ---------------------------------------------------------------------------
 
 void add_frame_range_options(CLI::App& sub, frame_range_options& o) {
-    sub.add_option("--first", o.first, "First frame to use, e.g. to leave out a rest pose the clip starts with")
-        ->type_name("FRAME")
-        ->check(count_up_to(max_frames))
-        ->capture_default_str();
+    add_setting(sub, "--first", o.first, "First frame to use, e.g. to leave out a rest pose the clip starts with",
+                count_up_to(max_frames))
+        ->type_name("FRAME");
     o.last_opt = sub.add_option("--last", o.last, "Last frame to use (default: the clip's last)")
                      ->type_name("FRAME")
                      ->check(count_up_to(max_frames));

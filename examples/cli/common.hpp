@@ -97,6 +97,13 @@ CLI::Validator positive_number();
 /// A finite number >= 0.
 CLI::Validator non_negative_number();
 
+/// An option whose text `check` validates and whose default --help shows.
+template <class T>
+CLI::Option* add_setting(CLI::App& sub, const std::string& name, T& value, const std::string& help,
+                         const CLI::Validator& check) {
+    return sub.add_option(name, value, help)->check(check)->capture_default_str();
+}
+
 /// Bytes a request of `count` items of `bytes_each` needs; throws failure
 /// naming the request, the memory it needs and `option` (the option to
 /// change) when that is more than `limit` bytes (default 1 GiB).
