@@ -8,12 +8,12 @@
 #include "svg_chart.hpp"
 #include "view_page.hpp"
 
+#include <anima/core/stopwatch.hpp>
 #include <anima/flight.hpp>
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <iostream>
@@ -80,9 +80,9 @@ void run_flight(const flight_options& o) {
     params.model = o.model == 1 ? anima::flight_model::timing_and_poses : anima::flight_model::timing;
     params.solver.max_iterations = o.iterations;
     // Progress on request, and by itself once a run has taken 2 s.
-    const auto start = std::chrono::steady_clock::now();
+    const anima::stopwatch timer;
     params.solver.on_iteration = [&](int iteration, double value) {
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double seconds = timer.elapsed();
         if (o.progress || seconds > 2.0)
             std::cerr << "anima: flight: iteration " << iteration << ": objective " << format_number(2 * value, 6)
                       << " (" << format_number(seconds, 3) << " s)\n";

@@ -11,13 +11,13 @@
 #include "common.hpp"
 #include "view_page.hpp"
 
+#include <anima/core/stopwatch.hpp>
 #include <anima/ik.hpp>
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <charconv>
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <iostream>
@@ -253,7 +253,7 @@ json effector_report(const anima::clip_ik_result<double>& solved, const std::vec
 
 void run_ik(const ik_options& o) {
     check_outputs({{"--output", &o.output}, {"--save-model", &o.model_out}, {"--view", &o.view}});
-    const auto start = std::chrono::steady_clock::now();
+    const anima::stopwatch timer;
     clip_t c = load_clip(o.input);
     const auto& sk = c.skeleton();
     const double scale = body_scale(c);
@@ -333,7 +333,7 @@ void run_ik(const ik_options& o) {
     const int iterations = solved.iterations;
     const auto converged_frames = solved.converged_frames;
     const double worst = solved.largest_error;
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = timer.elapsed();
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(c));
     json out = {{"input", o.input},
                 {"solver", o.solver},

@@ -3,11 +3,11 @@
 #include "commands.hpp"
 #include "common.hpp"
 
+#include <anima/core/stopwatch.hpp>
 #include <anima/maxflow.hpp>
 
 #include <CLI/CLI.hpp>
 
-#include <chrono>
 #include <cstddef>
 #include <iostream>
 #include <memory>
@@ -23,20 +23,15 @@ struct maxflow_options {
     bool real = false;
 };
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 template <class Cap>
 void solve(const maxflow_options& o, const std::string& text) {
-    const auto read_start = std::chrono::steady_clock::now();
+    anima::stopwatch timer;
     const anima::dimacs_max_flow<Cap> problem = anima::parse_dimacs_max_flow<Cap>(text, o.input);
-    const double read_seconds = seconds_since(read_start);
+    const double read_seconds = timer.lap();
 
     // Timed: building the graph and solving, as a program embedding anima would.
-    const auto start = std::chrono::steady_clock::now();
     const auto result = anima::solve_max_flow(problem);
-    const double seconds = seconds_since(start);
+    const double seconds = timer.lap();
     const std::size_t source_side = result.source_count();
 
     if (o.json) {

@@ -6,6 +6,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 
+#include <anima/core/stopwatch.hpp>
 #include <anima/poisson.hpp>
 
 #include <CLI/CLI.hpp>
@@ -13,7 +14,6 @@
 #include <Eigen/SparseCore>
 
 #include <cerrno>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -105,10 +105,6 @@ std::string to_csv(const Eigen::MatrixXd& u) {
     return out;
 }
 
-double since(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 void run_poisson(const poisson_options& o) {
     check_outputs({{"--out", &o.output}});
     const grid_size size = parse_grid(o.grid);
@@ -139,7 +135,7 @@ void run_poisson(const poisson_options& o) {
                 {"tolerance", o.tolerance}};
     anima::poisson_result<double> r;
     double setup = 0, solve = 0;
-    const auto start = std::chrono::steady_clock::now();
+    anima::stopwatch timer;
     if (o.solver == "multigrid") {
         anima::multigrid_poisson<double>::params prm;
         prm.tolerance = o.tolerance;
@@ -148,10 +144,9 @@ void run_poisson(const poisson_options& o) {
         prm.post_sweeps = o.post;
         prm.max_cycles = o.max_cycles;
         anima::multigrid_poisson<double> mg(problem.grid, prm);
-        setup = since(start);
-        const auto t = std::chrono::steady_clock::now();
+        setup = timer.lap();
         r = mg.solve(problem);
-        solve = since(t);
+        solve = timer.lap();
         json levels = json::array();
         for (std::size_t l = 0; l < mg.levels(); ++l)
             levels.push_back({{"width", mg.level_size(l).second}, {"height", mg.level_size(l).first}});
@@ -161,20 +156,18 @@ void run_poisson(const poisson_options& o) {
         out["levels"] = levels;
     } else if (o.solver == "dst") {
         const anima::dst_poisson<double> fast(problem.grid);
-        setup = since(start);
-        const auto t = std::chrono::steady_clock::now();
+        setup = timer.lap();
         r = fast.solve(problem);
-        solve = since(t);
+        solve = timer.lap();
     } else {
         // Conjugate gradients on the assembled system, as a reference.
         anima::cg_poisson<double>::params prm;
         prm.tolerance = o.tolerance;
         if (o.solver == "cg-ic") prm.preconditioner = anima::cg_preconditioner::incomplete_cholesky;
         const anima::cg_poisson<double> cg(problem, prm);
-        setup = since(start);
-        const auto t = std::chrono::steady_clock::now();
+        setup = timer.lap();
         r = cg.solve();
-        solve = since(t);
+        solve = timer.lap();
     }
     const double seconds = setup + solve;
     out["seconds"] = seconds;

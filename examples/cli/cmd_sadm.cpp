@@ -11,13 +11,13 @@
 #include "commands.hpp"
 #include "common.hpp"
 
+#include <anima/core/stopwatch.hpp>
 #include <anima/image.hpp>
 #include <anima/sadm.hpp>
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -155,7 +155,7 @@ struct train_options {
 
 void run_train(const train_options& o) {
     check_outputs({{"--out", &o.output}});
-    const auto start = std::chrono::steady_clock::now();
+    const anima::stopwatch timer;
     const frames_t frames = load_frames(o.dir, o.hold_out, false, o.progress);
     anima::sadm_options<double> options;
     options.mapping = anima::parse_regressor_kind(o.regressor);
@@ -169,7 +169,7 @@ void run_train(const train_options& o) {
     std::ostringstream text;
     model.save(text);
     write_text_file(o.output, text.str());
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = timer.elapsed();
     if (o.json) {
         json j;
         j["frames"] = frames.images.size();

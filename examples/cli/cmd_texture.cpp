@@ -12,12 +12,12 @@
 #include "svg_chart.hpp"
 #include "view_page.hpp"
 
+#include <anima/core/stopwatch.hpp>
 #include <anima/texture.hpp>
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -43,12 +43,6 @@ struct texture_options {
     bool plant_feet = true;
     CLI::Option *m_opt = nullptr, *overlap_opt = nullptr, *first_opt = nullptr, *up_opt = nullptr;
 };
-
-using clock_type = std::chrono::steady_clock;
-
-double seconds_since(clock_type::time_point t) {
-    return std::chrono::duration<double>(clock_type::now() - t).count();
-}
 
 /// Viridis-like colour map, t in [0, 1].
 void colour(double t, unsigned char* rgb) {
@@ -548,7 +542,7 @@ void print_texture_summary(const texture_options& o, const std::vector<std::size
 void run_texture(texture_options o) {
     check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--texton", &o.texton_output}, {"--view", &o.view}});
     if (!o.plot.empty()) require_png("--plot");
-    const auto start = clock_type::now();
+    anima::stopwatch timer, total;
     std::vector<clip_t> clips;
     std::vector<std::size_t> firsts(o.inputs.size());
     int decimals = 6;
@@ -566,7 +560,7 @@ void run_texture(texture_options o) {
                          "--frames " + std::to_string(o.frames) + " of " + std::to_string(c.skeleton().channel_count()) +
                              " channels",
                          "--frames");
-    const double read_seconds = seconds_since(start);
+    const double read_seconds = timer.lap();
 
     const anima::motion_texture_params<double> p = texture_params(o, clips);
     const anima::signed_axis up = *p.texton.up;
@@ -579,7 +573,7 @@ void run_texture(texture_options o) {
     const anima::motion_texture<double> t = anima::patch_texton(texton, o.frames, p);
     stage("texture (patching, smoothing)", t.timings.patch + t.timings.smoothing);
 
-    const auto write_start = clock_type::now();
+    timer.lap();
     anima::bvh_write_options write;
     write.decimals = decimals;
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(t.motion, write));
@@ -591,7 +585,7 @@ void run_texture(texture_options o) {
     }
     std::string page_written;
     if (!o.view.empty()) page_written = write_view_page(o.view, texture_page(o, clips, t));
-    const double write_seconds = seconds_since(write_start);
+    const double write_seconds = timer.lap();
 
     const seam_check check = check_seams(c, t);
     if (!t.smoothing.converged)
@@ -600,7 +594,7 @@ void run_texture(texture_options o) {
 
     const skate_check skate{anima::clip_foot_skate(clips, up).median, anima::clip_foot_skate(t.motion, up).median};
     if (o.json) {
-        json out = texture_json(o, firsts, clips, texton, t, check, skate, {read_seconds, write_seconds, seconds_since(start)});
+        json out = texture_json(o, firsts, clips, texton, t, check, skate, {read_seconds, write_seconds, total.elapsed()});
         if (clips.size() > 1) out["offsets_from"] = o.inputs[0];  // the output uses the first clip's skeleton
         if (clips.size() > 1)
             out["order"] = {{"rule", o.order},
