@@ -117,9 +117,7 @@ void register_contacts(CLI::App& app) {
     sub->add_option("CLIP", opts->input, "BVH clip")->required()->type_name("CLIP.bvh");
     sub->add_option("--foot", opts->feet, "A foot joint (repeat for each; default: found by name or as the lowest leaves)")
         ->type_name("NAME");
-    sub->add_option("--up", opts->up, "Up axis (default: guessed from the skeleton)")
-        ->check(signed_axis_validator())
-        ->type_name("AXIS");
+    add_up_option(*sub, opts->up, "Up axis (default: guessed from the skeleton)");
     sub->add_option("--plot", opts->plot, "Plot each foot's height and contacts against time (SVG)")->type_name("OUT.svg");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_contacts(*opts); });

@@ -120,13 +120,9 @@ void register_convert(CLI::App& app) {
                                       "Write every joint's rotation channels in this order (XYZ, XZY, YXZ, YZX, ZXY, ZYX)")
                           ->type_name("ORDER")
                           ->check(euler_order_validator());
-    opts->up_opt = sub->add_option("--up", opts->up, "Turn the clip so that this axis is up (+X, -X, +Y, -Y, +Z, -Z)")
-                       ->type_name("AXIS")
-                       ->check(signed_axis_validator());
-    opts->from_up_opt = sub->add_option("--from-up", opts->from_up,
-                                        "The input's up axis, instead of the one guessed from the skeleton")
-                            ->type_name("AXIS")
-                            ->check(signed_axis_validator())
+    opts->up_opt = add_up_option(*sub, opts->up, "Turn the clip so that this axis is up (+X, -X, +Y, -Y, +Z, -Z)");
+    opts->from_up_opt = add_up_option(*sub, opts->from_up,
+                                      "The input's up axis, instead of the one guessed from the skeleton", "--from-up")
                             ->needs(opts->up_opt);
     opts->scale_opt = sub->add_option("--scale", opts->scale, "Multiply every length (offsets, translations) by S")
                           ->type_name("S")

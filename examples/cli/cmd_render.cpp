@@ -30,7 +30,7 @@ struct render_options {
     bool animate = false;
     double fps = 25;
     std::string span;  // "A-B" for --animate
-    CLI::Option *frames_opt = nullptr, *up_opt = nullptr, *width_opt = nullptr, *height_opt = nullptr, *span_opt = nullptr;
+    CLI::Option *frames_opt = nullptr, *width_opt = nullptr, *height_opt = nullptr, *span_opt = nullptr;
 };
 
 // Layout in pixels.
@@ -164,17 +164,6 @@ projection project_frames(const clip_t& clip, const std::vector<std::size_t>& fr
     }
 
     return {std::move(panels), xmin, xmax, ymin, ymax};
-}
-
-/// The up axis given, or guessed (with a warning when the guess has nothing to go on).
-anima::signed_axis render_up_axis(const render_options& o, const skeleton_t& sk) {
-    if (o.up_opt->count() > 0) return parse_signed_axis(o.up);
-    const anima::up_axis_guess guess = anima::guess_up_axis(sk);
-    if (!guess.confident)
-        std::cerr << "anima: warning: cannot tell the up axis of '" << o.input
-                  << "' (no head, neck or foot joint); assuming " << anima::to_string(guess.up)
-                  << ", use --up to say otherwise\n";
-    return guess.up;
 }
 
 /// A bar of a round length (in metres when the unit guess is confident,
@@ -316,7 +305,7 @@ void run_render(const render_options& o) {
     const clip_t clip = load_clip(o.input);
     if (clip.empty()) throw failure("'" + o.input + "' has no frames to render");
     const skeleton_t& sk = clip.skeleton();
-    const anima::signed_axis up = render_up_axis(o, sk);
+    const anima::signed_axis up = up_axis_or_guess(o.up, sk, o.input);
     const view_basis basis = make_view(o.view, up, anima::left_axis(sk, up));
     if (o.animate) return run_animate(o, clip, basis, up);
     const std::vector<std::size_t> frames = choose_frames(o, clip.frames());
@@ -434,9 +423,7 @@ void register_render(CLI::App& app) {
         ->type_name("VIEW")
         ->check(CLI::IsMember({"front", "side", "top"}))
         ->capture_default_str();
-    opts->up_opt = sub->add_option("--up", opts->up, "The clip's up axis, instead of the one guessed from the skeleton")
-                       ->type_name("AXIS")
-                       ->check(signed_axis_validator());
+    add_up_option(*sub, opts->up);
     opts->width_opt = sub->add_option("--width", opts->width, "Width of the image (default: from the figure's proportions)")
                           ->type_name("PX")
                           ->check(integer_in(50, 100000));

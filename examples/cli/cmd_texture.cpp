@@ -41,7 +41,7 @@ struct texture_options {
     double neighbour_weight = 0.5, mix_probability = 0.5;
     bool json = false, hard_cut = false, symmetric = false, keep_heading = false, progress = false;
     bool plant_feet = true;
-    CLI::Option *m_opt = nullptr, *overlap_opt = nullptr, *first_opt = nullptr, *up_opt = nullptr;
+    CLI::Option *m_opt = nullptr, *overlap_opt = nullptr, *first_opt = nullptr;
 };
 
 /// Viridis-like colour map, t in [0, 1].
@@ -242,7 +242,7 @@ void write_plot(const std::string& path, const std::vector<clip_t>& inputs, cons
 /// or the guess from the skeleton.
 anima::motion_texture_params<double> texture_params(const texture_options& o, const std::vector<clip_t>& clips) {
     anima::motion_texture_params<double> p;
-    if (o.up_opt->count() > 0) p.texton.up = parse_signed_axis(o.up);
+    if (!o.up.empty()) p.texton.up = parse_signed_axis(o.up);
     if (!p.texton.up) p.texton.up = anima::guess_up_axis(clips[0].skeleton()).up;
     std::size_t shortest = clips[0].frames();
     for (const clip_t& c : clips) shortest = std::min(shortest, c.frames());
@@ -682,9 +682,7 @@ void register_texture(CLI::App& app) {
                                       "First frame to use of every clip (default: after a rest pose the clip starts with, if any)")
                           ->type_name("FRAME")
                           ->check(count_up_to(max_frames));
-    opts->up_opt = sub->add_option("--up", opts->up, "The clip's up axis, instead of the one guessed from the skeleton")
-                       ->type_name("AXIS")
-                       ->check(signed_axis_validator());
+    add_up_option(*sub, opts->up);
     sub->add_flag("--plant-feet,!--no-plant-feet", opts->plant_feet,
                   "Hold feet that are on the ground across seams and turns in place, IK on the legs (the "
                   "default; --no-plant-feet leaves them as the seams left them)");

@@ -48,8 +48,6 @@ void register_view(CLI::App& app) {
         ->type_name("PAGE.html");
     sub->add_flag("--overlay", opts->overlay, "Draw the clips in one place, one colour each, instead of side by side");
     sub->add_option("--title", opts->title, "Title of the page (default: the file names)");
-    sub->add_option("--up", opts->up, "The clips' up axis, instead of the one guessed from each skeleton")
-        ->type_name("AXIS")
-        ->check(signed_axis_validator());
+    add_up_option(*sub, opts->up, "The clips' up axis, instead of the one guessed from each skeleton");
     sub->callback([opts] { run_view(*opts); });
 }

@@ -258,6 +258,20 @@ CLI::Validator signed_axis_validator() {
         "{+X,-X,+Y,-Y,+Z,-Z}", "signed axis");
 }
 
+CLI::Option* add_up_option(CLI::App& sub, std::string& up, const std::string& help, const std::string& name) {
+    return sub.add_option(name, up, help)->type_name("AXIS")->check(signed_axis_validator());
+}
+
+anima::signed_axis up_axis_or_guess(const std::string& given, const skeleton_t& skeleton, const std::string& path) {
+    if (!given.empty()) return parse_signed_axis(given);
+    const anima::up_axis_guess guess = anima::guess_up_axis(skeleton);
+    if (!guess.confident)
+        std::cerr << "anima: warning: cannot tell the up axis of '" << path
+                  << "' (no head, neck or foot joint); assuming " << anima::to_string(guess.up)
+                  << ", use --up to say otherwise\n";
+    return guess.up;
+}
+
 CLI::Validator euler_order_validator() {
     return CLI::Validator(
         [](std::string& value) -> std::string {
@@ -471,9 +485,7 @@ void add_frame_range_options(CLI::App& sub, frame_range_options& o) {
     o.last_opt = sub.add_option("--last", o.last, "Last frame to use (default: the clip's last)")
                      ->type_name("FRAME")
                      ->check(count_up_to(max_frames));
-    o.up_opt = sub.add_option("--up", o.up, "The clip's up axis, instead of the one guessed from the skeleton")
-                   ->type_name("AXIS")
-                   ->check(signed_axis_validator());
+    add_up_option(sub, o.up);
 }
 
 motion_range load_motion_range(const std::string& path, const frame_range_options& o) {
@@ -496,16 +508,7 @@ motion_range load_motion_range(const std::string& path, const frame_range_option
     out.first = o.first;
     out.clip = o.first == 0 && last + 1 == n ? whole : whole.slice(o.first, last + 1);
     out.decimals = anima::bvh_value_decimals(text);
-    if (o.up_opt && o.up_opt->count() > 0) {
-        out.up = parse_signed_axis(o.up);
-    } else {
-        const anima::up_axis_guess guess = anima::guess_up_axis(whole.skeleton());
-        out.up = guess.up;
-        if (!guess.confident)
-            std::cerr << "anima: warning: cannot tell the up axis of '" << path
-                      << "' (no head, neck or foot joint); assuming " << anima::to_string(out.up)
-                      << ", use --up to say otherwise\n";
-    }
+    out.up = up_axis_or_guess(o.up, whole.skeleton(), path);
     anima::frame_feature_params features;
     features.up = out.up;
     out.features = anima::frame_features(out.clip, features);

@@ -144,6 +144,15 @@ anima::signed_axis parse_signed_axis(std::string_view text);
 CLI::Validator signed_axis_validator();
 CLI::Validator euler_order_validator();
 
+/// Adds --up AXIS (or another axis option), an empty string when not given.
+CLI::Option* add_up_option(CLI::App& sub, std::string& up,
+                           const std::string& help = "The clip's up axis, instead of the one guessed from the skeleton",
+                           const std::string& name = "--up");
+
+/// The axis `given` (--up), or when that is empty the one guessed from the
+/// skeleton, with a warning naming `path` when the guess has nothing to go on.
+anima::signed_axis up_axis_or_guess(const std::string& given, const skeleton_t& skeleton, const std::string& path);
+
 
 /// The rotation order of a skeleton's joints with three rotation channels:
 /// "ZXY" when they all agree, "mixed" when they differ, "none" when no joint
@@ -233,7 +242,7 @@ void write_png(const std::string& path, int width, int height, int channels, con
 struct frame_range_options {
     std::size_t first = 0, last = 0;
     std::string up;
-    CLI::Option *last_opt = nullptr, *up_opt = nullptr;
+    CLI::Option* last_opt = nullptr;
 };
 
 /// Adds --first, --last and --up.
