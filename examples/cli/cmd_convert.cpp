@@ -139,12 +139,11 @@ void register_convert(CLI::App& app) {
                                          "input has when its values are copied, 6 when they are re-encoded)")
                              ->type_name("N")
                              ->check(integer_in(0, 17));
-    opts->euler_opt = sub->add_option("--euler", opts->euler,
-                                      "How rotations become angles when the clip is re-encoded: continuous (no "
-                                      "360 degree jumps) or principal (each frame on its own); implies re-encoding")
-                          ->type_name("MODE")
-                          ->check(CLI::IsMember(anima::enum_name_list<anima::euler_angles>()))
-                          ->capture_default_str();
+    opts->euler_opt = add_setting(*sub, "--euler", opts->euler,
+                                  "How rotations become angles when the clip is re-encoded: continuous (no "
+                                  "360 degree jumps) or principal (each frame on its own); implies re-encoding",
+                                  CLI::IsMember(anima::enum_name_list<anima::euler_angles>()))
+                          ->type_name("MODE");
     sub->add_flag("--json", opts->json, "Print a JSON summary instead of a line of text");
     sub->callback([opts] { run_convert(*opts); });
 }

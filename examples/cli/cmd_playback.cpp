@@ -203,26 +203,23 @@ void register_playback(CLI::App& app) {
     sub->add_option("-o,--output", opts->output, "Write the new motion to this BVH file")->type_name("OUT.bvh");
     add_view_option(*sub, opts->view, "the input and the new motion, the turns marked");
     add_setting(*sub, "--seed", opts->seed, "Seed of the random turns (same seed, same motion)", count_up_to(~0ULL));
-    sub->add_option("--root", opts->root,
-                    "The root's ground path: recorded (the source frame's), in_place, accumulated (the source's "
-                    "steps added up) or keep_direction (reversed steps negated)")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::root_path>()))
-        ->capture_default_str();
+    add_setting(*sub, "--root", opts->root,
+                "The root's ground path: recorded (the source frame's), in_place, accumulated (the source's "
+                "steps added up) or keep_direction (reversed steps negated)",
+                CLI::IsMember(anima::enum_name_list<anima::root_path>()));
     opts->start_opt = sub->add_option("--start", opts->start,
                                       "Frame to start at (default: the first candidate, or the first frame with "
                                       "--video-texture)")
                           ->type_name("FRAME")
                           ->check(count_up_to(max_frames));
     auto* fixed = sub->add_flag("--fixed", opts->fixed, "Keep every candidate's Eq 5 probability (no adaptation)");
-    auto* gain = sub->add_option("--gain", opts->gain, "k of Eq 6: a passed candidate's probability is multiplied by K")
+    auto* gain = add_setting(*sub, "--gain", opts->gain,
+                             "k of Eq 6: a passed candidate's probability is multiplied by K", number_in(1, 1000))
                      ->type_name("K")
-                     ->check(number_in(1, 1000))
-                     ->capture_default_str()
                      ->excludes(fixed);
-    auto* penalty = sub->add_option("--penalty", opts->penalty, "Subtracted from a candidate's probability when it turns")
+    auto* penalty = add_setting(*sub, "--penalty", opts->penalty,
+                                "Subtracted from a candidate's probability when it turns", number_in(0, 1))
                         ->type_name("P")
-                        ->check(number_in(0, 1))
-                        ->capture_default_str()
                         ->excludes(fixed);
     std::vector<CLI::Option*> symmetric = add_symmetry_options(*sub, opts->symmetry);
     symmetric.insert(symmetric.end(), {fixed, gain, penalty});

@@ -216,13 +216,12 @@ void register_poisson(CLI::App& app) {
         ->type_name("random|FILE.csv")
         ->capture_default_str();
     add_setting(*sub, "--seed", opts->seed, "Seed of the random right-hand side", count_up_to(~0ULL));
-    sub->add_option("--solver", opts->solver, "multigrid, dst (sine/cosine transform), cg or cg-ic (Eigen's CG, with IncompleteCholesky)")
-        ->check(CLI::IsMember({"multigrid", "dst", "cg", "cg-ic"}))
-        ->capture_default_str();
+    add_setting(*sub, "--solver", opts->solver,
+                "multigrid, dst (sine/cosine transform), cg or cg-ic (Eigen's CG, with IncompleteCholesky)",
+                CLI::IsMember({"multigrid", "dst", "cg", "cg-ic"}));
     sub->add_flag("--neumann", opts->neumann, "Zero flux on every side instead of zero Dirichlet values");
-    sub->add_option("--tolerance", opts->tolerance, "Stop at this relative residual ||b - Ax|| / ||b|| (multigrid, cg)")
-        ->check(number_in(0, 1, true, true))
-        ->capture_default_str();
+    add_setting(*sub, "--tolerance", opts->tolerance,
+                "Stop at this relative residual ||b - Ax|| / ||b|| (multigrid, cg)", number_in(0, 1, true, true));
     add_setting(*sub, "--cycle", opts->cycle, "Multigrid cycle: v or w",
                 CLI::IsMember(anima::enum_name_list<anima::multigrid_cycle>()));
     add_setting(*sub, "--pre", opts->pre, "Multigrid smoothing sweeps before the coarse correction",

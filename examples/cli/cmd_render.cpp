@@ -412,17 +412,15 @@ void register_render(CLI::App& app) {
                                    }
                                },
                                "", "frame list"));
-    auto* count = sub->add_option("--count", opts->count, "Number of evenly spaced frames to draw, first and last included")
-                      ->type_name("N")
-                      ->check(integer_in(1, 1000))
-                      ->capture_default_str();
+    auto* count = add_setting(*sub, "--count", opts->count,
+                              "Number of evenly spaced frames to draw, first and last included", integer_in(1, 1000))
+                      ->type_name("N");
     opts->frames_opt->excludes(count);
-    sub->add_option("--view", opts->view,
-                    "front: up and the figure's left-right axis; side: up and its front-back axis (seen from its "
-                    "right); top: seen from above")
-        ->type_name("VIEW")
-        ->check(CLI::IsMember({"front", "side", "top"}))
-        ->capture_default_str();
+    add_setting(*sub, "--view", opts->view,
+                "front: up and the figure's left-right axis; side: up and its front-back axis (seen from its "
+                "right); top: seen from above",
+                CLI::IsMember({"front", "side", "top"}))
+        ->type_name("VIEW");
     add_up_option(*sub, opts->up);
     opts->width_opt = sub->add_option("--width", opts->width, "Width of the image (default: from the figure's proportions)")
                           ->type_name("PX")

@@ -324,7 +324,8 @@ void register_sadm(CLI::App& app) {
     add_setting(*train, "--regressor", t->regressor, "b_s -> b_g mapping",
                 CLI::IsMember(anima::enum_name_list<anima::regressor_kind>()));
     train->add_option("--hold-out", t->hold_out, split_help)->check(hold_out_rule())->type_name("every:N|last:N");
-    add_setting(*train, "--shape-variance", t->shape_variance, "Fraction of shape variance kept", number_in(0, 1, true));
+    add_setting(*train, "--shape-variance", t->shape_variance, "Fraction of shape variance kept",
+                number_in(0, 1, true));
     add_setting(*train, "--grey-variance", t->grey_variance, "Fraction of grey-level variance kept",
                 number_in(0, 1, true));
     train->add_option("--grey-components", t->grey_components, "Keep this many grey parameters instead (0: by variance)")

@@ -151,17 +151,16 @@ void register_smooth(CLI::App& app) {
         ->check(count_up_to(max_frames))
         ->type_name("F1,F2,...");
     sub->add_option("-o,--output", opts->output, "Write the smoothed clip to this BVH file")->type_name("OUT.bvh");
-    sub->add_option("--mode", opts->mode, "1d: each DOF along time; 2d: the frames x DOF matrix as an image (the paper)")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::seam_smoothing_form>()))
-        ->capture_default_str();
+    add_setting(*sub, "--mode", opts->mode,
+                "1d: each DOF along time; 2d: the frames x DOF matrix as an image (the paper)",
+                CLI::IsMember(anima::enum_name_list<anima::seam_smoothing_form>()));
     add_setting(*sub, "--solver", opts->solver, "multigrid or dst",
                 CLI::IsMember(anima::enum_name_list<anima::poisson_method>()));
     add_setting(*sub, "--radius", opts->radius, "Also replace this many frame differences on each side of a seam",
                 count_up_to(max_frames));
-    sub->add_option("--dof-sides", opts->dof_sides,
-                    "2d mode: beyond the first and last DOF, neumann (free) or dirichlet (the paper's zero padding)")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::boundary>()))
-        ->capture_default_str();
+    add_setting(*sub, "--dof-sides", opts->dof_sides,
+                "2d mode: beyond the first and last DOF, neumann (free) or dirichlet (the paper's zero padding)",
+                CLI::IsMember(anima::enum_name_list<anima::boundary>()));
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
     sub->callback([opts] { run_smooth(*opts); });
 }

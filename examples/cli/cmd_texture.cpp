@@ -647,23 +647,21 @@ void register_texture(CLI::App& app) {
     add_setting(*sub, "--blend", opts->blend, "Frames of each fade (0: half the overlap)", count_up_to(max_frames))
         ->type_name("K");
     sub->add_flag("--hard-cut", opts->hard_cut, "Switch at the seam without a fade");
-    sub->add_option("--order", opts->order,
-                    "Several clips: loop through them in the order given, or in the order whose seams cost least "
-                    "(least-cost: every clip's end searched against every other's start)")
-        ->check(CLI::IsMember({"given", "least-cost"}))
-        ->capture_default_str();
-    sub->add_option("--capacity", opts->capacity, "Seam capacity: normalized (Kwatra's M / grad), exponential or plain")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::seam_capacity>()))
-        ->capture_default_str();
+    add_setting(*sub, "--order", opts->order,
+                "Several clips: loop through them in the order given, or in the order whose seams cost least "
+                "(least-cost: every clip's end searched against every other's start)",
+                CLI::IsMember({"given", "least-cost"}));
+    add_setting(*sub, "--capacity", opts->capacity,
+                "Seam capacity: normalized (Kwatra's M / grad), exponential or plain",
+                CLI::IsMember(anima::enum_name_list<anima::seam_capacity>()));
     add_setting(*sub, "--metric", opts->metric, "Frame distance of the offset search: mahalanobis (Eq 2) or l2 (Eq 1)",
                 CLI::IsMember(anima::enum_name_list<anima::frame_metric>()));
-    sub->add_option("--neighbour-weight", opts->neighbour_weight, "Tie between neighbouring joints' seams (0: independent)")
-        ->type_name("W")
-        ->check(number_in(0, 1e6))
-        ->capture_default_str();
-    sub->add_option("--smoothing", opts->smoothing, "Poisson smoothing: 1d (per DOF), 2d (the DOF x frame image) or none")
-        ->check(CLI::IsMember({"1d", "2d", "none"}))
-        ->capture_default_str();
+    add_setting(*sub, "--neighbour-weight", opts->neighbour_weight,
+                "Tie between neighbouring joints' seams (0: independent)", number_in(0, 1e6))
+        ->type_name("W");
+    add_setting(*sub, "--smoothing", opts->smoothing,
+                "Poisson smoothing: 1d (per DOF), 2d (the DOF x frame image) or none",
+                CLI::IsMember({"1d", "2d", "none"}));
     add_setting(*sub, "--solver", opts->solver, "Poisson solver: multigrid or dst",
                 CLI::IsMember(anima::enum_name_list<anima::poisson_method>()));
     sub->add_flag("--keep-heading", opts->keep_heading,

@@ -247,13 +247,11 @@ void register_transition(CLI::App& app) {
     sub->add_option("--feet-plot", opts->feet_plot,
                     "Plot each foot's height and skate through the window, before and after planting (SVG)")
         ->type_name("OUT.svg");
-    sub->add_option("--method", opts->method,
-                    "variable (the paper's method), cut, crossfade or inertialize")
-        ->check(CLI::IsMember({"variable", "cut", "crossfade", "inertialize"}))
-        ->capture_default_str();
-    sub->add_option("--timing", opts->timing, "t_i from mean angular speeds (velocity) or accelerations (acceleration)")
-        ->check(CLI::IsMember(anima::enum_name_list<anima::timing_model>()))
-        ->capture_default_str();
+    add_setting(*sub, "--method", opts->method, "variable (the paper's method), cut, crossfade or inertialize",
+                CLI::IsMember({"variable", "cut", "crossfade", "inertialize"}));
+    add_setting(*sub, "--timing", opts->timing,
+                "t_i from mean angular speeds (velocity) or accelerations (acceleration)",
+                CLI::IsMember(anima::enum_name_list<anima::timing_model>()));
     add_setting(*sub, "--min-duration", opts->min_duration, "Shortest transition, seconds", non_negative_number());
     add_setting(*sub, "--max-duration", opts->max_duration, "Longest transition, seconds", non_negative_number());
     add_setting(*sub, "--crossfade-time", opts->crossfade, "Length of the crossfade baseline, seconds",

@@ -527,27 +527,21 @@ motion_range load_motion_range(const std::string& path, const frame_range_option
 }
 
 std::vector<CLI::Option*> add_symmetry_options(CLI::App& sub, symmetry_options& o) {
-    return {sub.add_option("--metric", o.metric, "Frame distance: mahalanobis (Eq 2) or l2 (Eq 1)")
-                ->check(CLI::IsMember(anima::enum_name_list<anima::frame_metric>()))
-                ->capture_default_str(),
-            sub.add_option("--window", o.window, "n of Eq 3: frames i-r and i+r are compared for r = 1..N")
-                ->type_name("N")
-                ->check(integer_in(1, 100000))
-                ->capture_default_str(),
-            sub.add_option("--smoothness", o.smoothness, "s of Eq 3: the binomial weights peak at r = S, 0..(N+1)/2")
-                ->type_name("S")
-                ->check(integer_in(0, 100000))
-                ->capture_default_str(),
-            sub.add_option("--candidate-window", o.candidate_window,
-                           "Eq 5: a candidate is the highest score within +-N frames (0: --window)")
-                ->type_name("N")
-                ->check(integer_in(0, 100000))
-                ->capture_default_str(),
-            sub.add_option("--min-pairs", o.min_pairs,
-                           "Frames compared on fewer pairs (near the ends) are never candidates (0: --window)")
-                ->type_name("N")
-                ->check(integer_in(0, 100000))
-                ->capture_default_str()};
+    return {add_setting(sub, "--metric", o.metric, "Frame distance: mahalanobis (Eq 2) or l2 (Eq 1)",
+                        CLI::IsMember(anima::enum_name_list<anima::frame_metric>())),
+            add_setting(sub, "--window", o.window, "n of Eq 3: frames i-r and i+r are compared for r = 1..N",
+                        integer_in(1, 100000))
+                ->type_name("N"),
+            add_setting(sub, "--smoothness", o.smoothness, "s of Eq 3: the binomial weights peak at r = S, 0..(N+1)/2",
+                        integer_in(0, 100000))
+                ->type_name("S"),
+            add_setting(sub, "--candidate-window", o.candidate_window,
+                        "Eq 5: a candidate is the highest score within +-N frames (0: --window)", integer_in(0, 100000))
+                ->type_name("N"),
+            add_setting(sub, "--min-pairs", o.min_pairs,
+                        "Frames compared on fewer pairs (near the ends) are never candidates (0: --window)",
+                        integer_in(0, 100000))
+                ->type_name("N")};
 }
 
 anima::symmetry_params<double> make_symmetry_params(const symmetry_options& o) {
