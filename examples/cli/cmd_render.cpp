@@ -5,7 +5,6 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
-#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
@@ -100,9 +99,55 @@ view_basis make_view(const std::string& view, anima::signed_axis up_axis, anima:
     return {l, up, forward, true};                       // seen from the front: its left on our right
 }
 
-struct segment {
-    double x1, y1, x2, y2, depth;
+/// A line from joint `from` to joint `to`, or to `to`'s End Site.
+struct bone {
+    std::size_t from, to;
+    bool end_site;
     anima::body_side side;
+};
+
+/// Each joint's bone from its parent, then the one to its End Site.
+std::vector<bone> bones_of(const skeleton_t& sk) {
+    std::vector<bone> out;
+    for (std::size_t j = 0; j < sk.size(); ++j) {
+        const anima::body_side side = anima::side_of(sk[j].name);
+        if (sk[j].parent >= 0) out.push_back({static_cast<std::size_t>(sk[j].parent), j, false, side});
+        if (sk[j].end_site) out.push_back({j, j, true, side});
+    }
+    return out;
+}
+
+/// A bone in view coordinates: its ends, its depth toward the viewer and its length.
+struct segment {
+    double x1, y1, x2, y2, depth, length;
+    anima::body_side side;
+};
+
+/// The bones of frame `f` in view coordinates, relative to the root's
+/// horizontal position so that the figure stays centred.
+std::vector<segment> project_bones(const clip_t& clip, std::size_t f, const std::vector<bone>& bones,
+                                   const view_basis& basis) {
+    const auto pose = anima::forward_kinematics(clip, f);
+    const std::vector<vec3> sites = anima::end_site_positions(clip.skeleton(), pose);
+    const vec3 root = pose.positions[0];
+    const double rx = root.dot(basis.right), ry = basis.vertical ? 0.0 : root.dot(basis.up);
+    std::vector<segment> out;
+    for (const bone& b : bones) {
+        const vec3& p = pose.positions[b.from];
+        const vec3& q = b.end_site ? sites[b.to] : pose.positions[b.to];
+        out.push_back({p.dot(basis.right) - rx, p.dot(basis.up) - ry, q.dot(basis.right) - rx, q.dot(basis.up) - ry,
+                       (p + q).dot(basis.toward) / 2, (p - q).norm(), b.side});
+    }
+    return out;
+}
+
+/// The box segments span in view coordinates.
+struct view_box {
+    double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
+    void extend(const segment& s) {
+        xmin = std::min({xmin, s.x1, s.x2}), xmax = std::max({xmax, s.x1, s.x2});
+        ymin = std::min({ymin, s.y1, s.y2}), ymax = std::max({ymax, s.y1, s.y2});
+    }
 };
 
 struct panel {
@@ -114,56 +159,29 @@ const char* colour(anima::body_side s) {
     return s == anima::body_side::left ? colour_left : s == anima::body_side::right ? colour_right : colour_centre;
 }
 
-/// The chosen frames' bones in view coordinates, each frame relative to its
-/// root's horizontal position so that the figures stay centred in their
-/// panels, far bones first; and the box they span.
+/// The chosen frames' bones, far bones first, and the box they span.
 struct projection {
     std::vector<panel> panels;
-    double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
+    view_box box;
 };
 
 projection project_frames(const clip_t& clip, const std::vector<std::size_t>& frames, const view_basis& basis) {
-    const skeleton_t& sk = clip.skeleton();
-    std::vector<panel> panels;
-    anima::global_pose<double> pose;
-    double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
+    projection out;
+    const std::vector<bone> bones = bones_of(clip.skeleton());
     for (const std::size_t f : frames) {
-        anima::forward_kinematics(clip, f, pose);
-        const std::vector<vec3> ends = anima::end_site_positions(sk, pose);
-        const vec3 root = pose.positions[0];
-        const double rx = root.dot(basis.right), ry = basis.vertical ? 0.0 : root.dot(basis.up);
-        const auto project = [&](const vec3& p, double& x, double& y) {
-            x = p.dot(basis.right) - rx;
-            y = p.dot(basis.up) - ry;
-            xmin = std::min(xmin, x), xmax = std::max(xmax, x);
-            ymin = std::min(ymin, y), ymax = std::max(ymax, y);
-        };
         panel pn{f, {}};
-        const auto add = [&](const vec3& a, const vec3& b, anima::body_side side) {
-            if ((a - b).norm() < 1e-9) return;
-            segment s{};
-            project(a, s.x1, s.y1);
-            project(b, s.x2, s.y2);
-            s.depth = (a + b).dot(basis.toward) / 2;
-            s.side = side;
-            pn.segments.push_back(s);
-        };
-        for (std::size_t j = 0; j < sk.size(); ++j) {
-            const anima::body_side side = anima::side_of(sk[j].name);
-            if (sk[j].parent >= 0) add(pose.positions[static_cast<std::size_t>(sk[j].parent)], pose.positions[j], side);
-            if (sk[j].end_site) add(pose.positions[j], ends[j], side);
-        }
+        for (const segment& s : project_bones(clip, f, bones, basis))
+            if (s.length >= 1e-9) {
+                pn.segments.push_back(s);
+                out.box.extend(s);
+            }
         // Far segments first, so that near limbs are drawn over them.
         std::stable_sort(pn.segments.begin(), pn.segments.end(),
                          [](const segment& a, const segment& b) { return a.depth < b.depth; });
-        panels.push_back(std::move(pn));
+        out.panels.push_back(std::move(pn));
     }
-    if (!std::isfinite(xmin)) {  // no bones at all: a single joint, say
-        xmin = ymin = -1;
-        xmax = ymax = 1;
-    }
-
-    return {std::move(panels), xmin, xmax, ymin, ymax};
+    if (!std::isfinite(out.box.xmin)) out.box = {-1, 1, -1, 1};  // no bones at all: a single joint, say
+    return out;
 }
 
 /// A bar of a round length (in metres when the unit guess is confident,
@@ -212,39 +230,21 @@ void run_animate(const render_options& o, const clip_t& clip, const view_basis& 
     const std::size_t step = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(clip.frame_rate() / o.fps)));
     std::vector<std::size_t> frames;
     for (std::size_t f = first; f <= last; f += step) frames.push_back(f);
-    check_request_memory(static_cast<double>(frames.size()) * static_cast<double>(sk.size() * 2), 4 * 8,
+    check_request_memory(static_cast<double>(frames.size()) * static_cast<double>(sk.size() * 2), sizeof(segment),
                          "an animation of " + std::to_string(frames.size()) + " frames", "--span or --fps");
     // Bones in a fixed order (each <line> is one bone all along): the
     // figure's left side first, its right side last.
-    struct bone { std::size_t from, to; bool end_site; anima::body_side side; };
-    std::vector<bone> bones;
-    for (std::size_t j = 0; j < sk.size(); ++j) {
-        const anima::body_side side = anima::side_of(sk[j].name);
-        if (sk[j].parent >= 0) bones.push_back({static_cast<std::size_t>(sk[j].parent), j, false, side});
-        if (sk[j].end_site) bones.push_back({j, j, true, side});
-    }
+    std::vector<bone> bones = bones_of(sk);
     const auto rank = [](anima::body_side s) { return s == anima::body_side::left ? 0 : s == anima::body_side::right ? 2 : 1; };
     std::stable_sort(bones.begin(), bones.end(), [&](const bone& a, const bone& b) { return rank(a.side) < rank(b.side); });
-
-    // Projected ends per frame and bone: x1, y1, x2, y2.
-    std::vector<std::array<double, 4>> ends(frames.size() * bones.size());
-    double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
-    anima::global_pose<double> pose;
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-        anima::forward_kinematics(clip, frames[i], pose);
-        const std::vector<vec3> sites = anima::end_site_positions(sk, pose);
-        const vec3 root = pose.positions[0];
-        const double rx = root.dot(basis.right), ry = basis.vertical ? 0.0 : root.dot(basis.up);
-        for (std::size_t b = 0; b < bones.size(); ++b) {
-            const vec3& p = pose.positions[bones[b].from];
-            const vec3& q = bones[b].end_site ? sites[bones[b].to] : pose.positions[bones[b].to];
-            auto& e = ends[i * bones.size() + b];
-            e = {p.dot(basis.right) - rx, p.dot(basis.up) - ry, q.dot(basis.right) - rx, q.dot(basis.up) - ry};
-            xmin = std::min({xmin, e[0], e[2]}), xmax = std::max({xmax, e[0], e[2]});
-            ymin = std::min({ymin, e[1], e[3]}), ymax = std::max({ymax, e[1], e[3]});
-        }
+    std::vector<std::vector<segment>> ends;  // per frame and bone
+    view_box box;
+    for (const std::size_t f : frames) {
+        ends.push_back(project_bones(clip, f, bones, basis));
+        for (const segment& e : ends.back()) box.extend(e);
     }
-    if (!std::isfinite(xmin)) throw failure("'" + o.input + "' has no bones to animate");
+    if (!std::isfinite(box.xmin)) throw failure("'" + o.input + "' has no bones to animate");
+    const double xmin = box.xmin, xmax = box.xmax, ymin = box.ymin, ymax = box.ymax;
     const double extent = std::max({xmax - xmin, ymax - ymin, 1e-9});
     const double height = o.height_opt->count() ? o.height : default_height;
     const double top = title_height + padding, bottom = 58;  // under the figure: scale bar, time axis
@@ -266,16 +266,17 @@ void run_animate(const render_options& o, const clip_t& clip, const view_basis& 
     const double stroke = std::clamp((ymax - ymin) * scale / 70, 1.2, 4.0);
     svg.raw("<g stroke-linecap=\"round\">");
     for (std::size_t b = 0; b < bones.size(); ++b) {
-        const auto& e0 = ends[b];
-        std::string line = "<line x1=\"" + svg_number(px(e0[0])) + "\" y1=\"" + svg_number(py(e0[1])) + "\" x2=\"" +
-                           svg_number(px(e0[2])) + "\" y2=\"" + svg_number(py(e0[3])) + "\" stroke=\"" +
+        const segment& e0 = ends[0][b];
+        std::string line = "<line x1=\"" + svg_number(px(e0.x1)) + "\" y1=\"" + svg_number(py(e0.y1)) + "\" x2=\"" +
+                           svg_number(px(e0.x2)) + "\" y2=\"" + svg_number(py(e0.y2)) + "\" stroke=\"" +
                            colour(bones[b].side) + "\" stroke-width=\"" + svg_number(stroke) + "\">";
         static const char* const attributes[] = {"x1", "y1", "x2", "y2"};
         for (std::size_t k = 0; k < 4; ++k) {
             line += "<animate attributeName=\"" + std::string(attributes[k]) + "\" dur=\"" + dur +
                     "\" repeatCount=\"indefinite\" values=\"";
             for (std::size_t i = 0; i < frames.size(); ++i) {
-                const double v = ends[i * bones.size() + b][k];
+                const segment& e = ends[i][b];
+                const double v = k == 0 ? e.x1 : k == 1 ? e.y1 : k == 2 ? e.x2 : e.y2;
                 line += (i ? ";" : "") + svg_number(k % 2 ? py(v) : px(v));
             }
             line += "\"/>";
@@ -312,7 +313,7 @@ void run_render(const render_options& o) {
 
     projection projected = project_frames(clip, frames, basis);
     const std::vector<panel>& panels = projected.panels;
-    double xmin = projected.xmin, xmax = projected.xmax, ymin = projected.ymin, ymax = projected.ymax;
+    double xmin = projected.box.xmin, xmax = projected.box.xmax, ymin = projected.box.ymin, ymax = projected.box.ymax;
     anima::global_pose<double> pose;
 
     // The ground: the lowest point the figure reaches anywhere in the clip.
