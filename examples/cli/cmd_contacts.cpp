@@ -26,12 +26,6 @@ struct contacts_options {
     bool json = false;
 };
 
-json intervals_json(const std::vector<anima::frame_interval>& runs) {
-    json out = json::array();
-    for (const auto& r : runs) out.push_back({r.first, r.last});
-    return out;
-}
-
 std::string intervals_text(const std::vector<anima::frame_interval>& runs, double dt) {
     if (runs.empty()) return "none";
     std::string out;
@@ -82,7 +76,7 @@ void run_contacts(const contacts_options& o) {
     if (o.json) {
         json feet = json::array();
         for (const auto& f : s.feet)
-            feet.push_back({{"joint", f.name}, {"contacts", intervals_json(f.contacts)},
+            feet.push_back({{"joint", f.name}, {"contacts", to_json(f.contacts)},
                             {"skate_median", anima::foot_skate(f).median}});
         print_json({{"input", o.input},
                     {"frames", c.frames()},
@@ -91,7 +85,7 @@ void run_contacts(const contacts_options& o) {
                     {"body_height", s.body_height},
                     {"lead_in", s.lead_in},
                     {"speed_on", s.speed_on},
-                    {"airborne", intervals_json(s.airborne_phases)},
+                    {"airborne", to_json(s.airborne_phases)},
                     {"feet", feet},
                     {"skate", {{"median", skate.median}, {"mean", skate.mean}, {"max", skate.max}, {"samples", skate.samples}}}});
         return;

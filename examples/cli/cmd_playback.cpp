@@ -54,12 +54,6 @@ clip_t played_clip(const playback_options& o, const motion_range& m, const std::
     return std::move(rendered.motion);
 }
 
-/// Median foot skate of the input and the played clip (anima::clip_foot_skate).
-json skate_of(const motion_range& m, const clip_t& result) {
-    const double in = anima::clip_foot_skate(m.clip, m.up).median, played = anima::clip_foot_skate(result, m.up).median;
-    return {{"input", in}, {"output", played}, {"ratio", in > 0 ? json(played / in) : json(nullptr)}};
-}
-
 /// "feet planted in N contact runs" or "feet not planted".
 std::string planting_note(const playback_options& o, const json& out) {
     if (!o.plant_feet) return "feet not planted";
@@ -119,11 +113,7 @@ void run_playback(const playback_options& o) {
             candidates.push_back({{"frame", m.first + c.frame},
                                   {"probability", c.probability},
                                   {"final_probability", playback.probability(c.frame)}});
-        out["metric"] = o.symmetry.metric;
-        out["window"] = params.radius;
-        out["smoothness"] = params.smoothness;
-        out["candidate_window"] = params.candidate_radius ? params.candidate_radius : params.radius;
-        out["min_pairs"] = anima::candidate_min_pairs(params, n);
+        out.update(settings_json(o.symmetry, params, n));
         if (!o.fixed) {
             out["gain"] = o.gain;
             out["penalty"] = o.penalty;
@@ -140,9 +130,7 @@ void run_playback(const playback_options& o) {
     }
 
     const auto cov = anima::coverage<double>(stream, n);
-    std::vector<bool> seen(n, false);
-    for (const std::size_t f : stream) seen[f] = true;
-    const auto distinct = static_cast<std::size_t>(std::count(seen.begin(), seen.end(), true));
+    const auto distinct = static_cast<std::size_t>(std::lround(cov.visited * static_cast<double>(n)));
     out["start"] = m.first + stream.front();
     out["coverage"] = {{"distinct", distinct}, {"fraction", cov.visited}, {"evenness", cov.evenness}};
 
@@ -157,7 +145,8 @@ void run_playback(const playback_options& o) {
             out["output"] = o.output;
             out["decimals"] = write.decimals;
         }
-        out["foot_skate"] = skate_of(m, result);
+        out["foot_skate"] =
+            skate_json(anima::clip_foot_skate(m.clip, m.up).median, anima::clip_foot_skate(result, m.up).median);
         if (!o.view.empty()) {
             view_page page;
             page.title = mode + " playback of " + file_name(o.input) + ", seed " + std::to_string(o.seed);
@@ -174,9 +163,7 @@ void run_playback(const playback_options& o) {
         return;
     }
     const std::string how = o.video_texture ? "video-texture playback (L2 jumps)"
-                                            : mode + " symmetric playback (" + o.symmetry.metric + ", window " +
-                                                  std::to_string(params.radius) + ", smoothness " +
-                                                  std::to_string(params.smoothness) + ")";
+                                            : mode + " symmetric playback (" + describe(o.symmetry, params) + ")";
     std::cout << how << " of " << file_name(o.input) << " frames " << m.first << ".." << last << ", seed " << o.seed
               << ": " << o.frames << " frames from frame " << m.first + stream.front() << "\n"
               << summary << "\ncoverage: " << distinct << " of " << n << " source frames shown ("

@@ -102,19 +102,14 @@ void run_smooth(const smooth_options& o) {
                 {"solver", anima::to_string(prm.solver)},
                 {"radius", o.radius},
                 {"seams", seams},
-                {"largest_change", {{"rotation", drift_rot}, {"translation", drift_tr}}},
-                {"solves", result.stats.solves},
-                {"iterations", result.stats.iterations},
-                {"relative_residual", result.stats.relative_residual},
-                {"converged", result.stats.converged}};
+                {"largest_change", {{"rotation", drift_rot}, {"translation", drift_tr}}}};
+    out.update(to_json(result.stats));
     if (prm.form == anima::seam_smoothing_form::image) out["dof_sides"] = anima::to_string(prm.dof_sides);
     if (!o.output.empty()) {
         write_text_file(o.output, anima::format_bvh(result.motion));
         out["output"] = o.output;
     }
-    if (!result.stats.converged)
-        std::cerr << "anima: warning: a Poisson solve stopped at relative residual "
-                  << format_number(result.stats.relative_residual, 3) << " above its tolerance\n";
+    warn_unconverged(result.stats);
     if (o.json) {
         print_json(out);
         return;

@@ -33,10 +33,6 @@ constexpr int default_matrix_pixels = 1024;
 // Labels on the score plot: at most this many, the highest scores first.
 constexpr std::size_t max_plot_labels = 12;
 
-std::string describe(const symmetry_cli_options& o, const anima::symmetry_params<double>& p) {
-    return o.symmetry.metric + ", window " + std::to_string(p.radius) + ", smoothness " + std::to_string(p.smoothness);
-}
-
 void write_score_plot(const std::string& path, const std::string& input, const motion_range& m,
                       const anima::symmetry_result<double>& r, const std::string& settings, int min_pairs) {
     const std::size_t n = m.clip.frames();
@@ -51,14 +47,11 @@ void write_score_plot(const std::string& path, const std::string& input, const m
                     62, 24);
     const chart_panel p = chart.panel(266, x0, x1, 0, 1, "symmetry score");
     // Frames compared on too few pairs to be candidates (near the ends).
-    bool shaded = false;
-    for (std::size_t k = 0; k < n; ++k) {
-        if (r.pairs[k] >= min_pairs) continue;
-        const std::size_t begin = k;
-        while (k + 1 < n && r.pairs[k + 1] < min_pairs) ++k;
-        p.shade(x0 + static_cast<double>(begin) - 0.5, x0 + static_cast<double>(k) + 0.5, "#eeeeee");
-        shaded = true;
-    }
+    std::vector<bool> few(n);
+    for (std::size_t k = 0; k < n; ++k) few[k] = r.pairs[k] < min_pairs;
+    const auto shaded = anima::true_runs(few);
+    for (const auto& run : shaded)
+        p.shade(x0 + static_cast<double>(run.first) - 0.5, x0 + static_cast<double>(run.last) + 0.5, "#eeeeee");
     p.y_axis(5);
     // The curve, over the frames that have pairs (not the first and last).
     std::vector<double> score(n);
@@ -80,7 +73,7 @@ void write_score_plot(const std::string& path, const std::string& input, const m
         chart.svg().text(x, p.y(c.score) - 7, std::to_string(m.first + c.frame), 10, "#a0231c", anchor);
     }
     chart.x_axis(p, 10, "frame (" + format_number(m.clip.frame_rate(), 4) + " frames per second, as the file says)");
-    if (shaded)
+    if (!shaded.empty())
         chart.legend({{"#eeeeee", "fewer than " + std::to_string(min_pairs) + " pairs, never candidates", mark::box}});
     write_text_file(path, chart.str());
 }
@@ -174,7 +167,7 @@ void run_symmetry(const symmetry_cli_options& o) {
     if (!r.score.allFinite()) throw failure("'" + o.input + "': the symmetry scores are not finite");
     const int candidate_window = params.candidate_radius ? params.candidate_radius : params.radius;
     const int min_pairs = anima::candidate_min_pairs(params, n);
-    const std::string settings = describe(o, params);
+    const std::string settings = describe(o.symmetry, params);
     const double dt = m.clip.frame_time();
 
     if (!o.plot.empty()) write_score_plot(o.plot, o.input, m, r, settings, min_pairs);
@@ -196,14 +189,10 @@ void run_symmetry(const symmetry_cli_options& o) {
                     {"last", m.first + n - 1},
                     {"frames", n},
                     {"frame_time", dt},
-                    {"up_axis", anima::to_string(m.up)},
-                    {"metric", o.symmetry.metric},
-                    {"window", params.radius},
-                    {"smoothness", params.smoothness},
-                    {"candidate_window", candidate_window},
-                    {"min_pairs", min_pairs},
-                    {"candidates", candidates},
-                    {"scores", scores}};
+                    {"up_axis", anima::to_string(m.up)}};
+        out.update(settings_json(o.symmetry, params, n));
+        out["candidates"] = candidates;
+        out["scores"] = scores;
         if (!o.plot.empty()) out["plot"] = o.plot;
         if (!o.matrix.empty())
             out["matrix"] = {{"file", o.matrix}, {"pixels", image.size}, {"white_distance", image.white}};

@@ -405,19 +405,14 @@ json texture_json(const texture_options& o, const std::vector<std::size_t>& firs
                 {"smoothing", o.smoothing},
                 {"seams", seams},
                 {"overlap_passes", spans},
-                {"foot_skate", {{"input", skate.input},
-                                {"output", skate.output},
-                                {"ratio", skate.input > 0 ? json(skate.output / skate.input) : json(nullptr)}}},
+                {"foot_skate", skate_json(skate.input, skate.output)},
                 {"feet_planted", o.plant_feet},
                 {"planted_runs", t.planted_runs},
                 {"seam_check", {{"joint_speed_ratio", check.worst_joint},
                                 {"worst_joint", check.worst_joint_name},
                                 {"root_speed_ratio", check.worst_root},
                                 {"finite", check.finite}}},
-                {"poisson", {{"solves", t.smoothing.solves},
-                             {"iterations", t.smoothing.iterations},
-                             {"relative_residual", t.smoothing.relative_residual},
-                             {"converged", t.smoothing.converged}}},
+                {"poisson", to_json(t.smoothing)},
                 {"stage_seconds", {{"read", times.read},
                                    {"features", t.timings.features},
                                    {"search", t.timings.search},
@@ -588,9 +583,7 @@ void run_texture(texture_options o) {
     const double write_seconds = timer.lap();
 
     const seam_check check = check_seams(c, t);
-    if (!t.smoothing.converged)
-        std::cerr << "anima: warning: a Poisson solve stopped at relative residual "
-                  << format_number(t.smoothing.relative_residual, 3) << " above its tolerance\n";
+    warn_unconverged(t.smoothing);
 
     const skate_check skate{anima::clip_foot_skate(clips, up).median, anima::clip_foot_skate(t.motion, up).median};
     if (o.json) {

@@ -218,6 +218,29 @@ std::string format_fixed(double value, int decimals) {
     return s;
 }
 
+json to_json(const std::vector<anima::frame_interval>& runs) {
+    json out = json::array();
+    for (const auto& r : runs) out.push_back({r.first, r.last});
+    return out;
+}
+
+json to_json(const anima::seam_smoothing_stats<double>& stats) {
+    return {{"solves", stats.solves},
+            {"iterations", stats.iterations},
+            {"relative_residual", stats.relative_residual},
+            {"converged", stats.converged}};
+}
+
+void warn_unconverged(const anima::seam_smoothing_stats<double>& stats) {
+    if (!stats.converged)
+        std::cerr << "anima: warning: a Poisson solve stopped at relative residual "
+                  << format_number(stats.relative_residual, 3) << " above its tolerance\n";
+}
+
+json skate_json(double input, double output) {
+    return {{"input", input}, {"output", output}, {"ratio", input > 0 ? json(output / input) : json(nullptr)}};
+}
+
 std::string join(const std::vector<std::string>& items, std::string_view separator) {
     std::string out;
     for (std::size_t i = 0; i < items.size(); ++i) {
@@ -559,6 +582,18 @@ anima::symmetry_params<double> make_symmetry_params(const symmetry_options& o) {
     p.candidate_radius = o.candidate_window;
     p.min_pairs = o.min_pairs;
     return p;
+}
+
+std::string describe(const symmetry_options& o, const anima::symmetry_params<double>& p) {
+    return o.metric + ", window " + std::to_string(p.radius) + ", smoothness " + std::to_string(p.smoothness);
+}
+
+json settings_json(const symmetry_options& o, const anima::symmetry_params<double>& p, std::size_t frames) {
+    return {{"metric", o.metric},
+            {"window", p.radius},
+            {"smoothness", p.smoothness},
+            {"candidate_window", p.candidate_radius ? p.candidate_radius : p.radius},
+            {"min_pairs", anima::candidate_min_pairs(p, frames)}};
 }
 
 }  // namespace anima_cli

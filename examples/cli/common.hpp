@@ -128,6 +128,19 @@ std::string format_number(double value, int significant = 6);
 /// A number with exactly `decimals` decimals ("0.333").
 std::string format_fixed(double value, int decimals);
 
+/// Frame intervals as [[first, last], ...].
+json to_json(const std::vector<anima::frame_interval>& runs);
+
+/// The Poisson solves of seam smoothing: solves, iterations, relative_residual, converged.
+json to_json(const anima::seam_smoothing_stats<double>& stats);
+
+/// Warns on stderr when a Poisson solve of seam smoothing stopped above its tolerance.
+void warn_unconverged(const anima::seam_smoothing_stats<double>& stats);
+
+/// The median foot skate of an input and of the motion made from it, and
+/// their ratio (null when the input's is 0).
+json skate_json(double input, double output);
+
 /// "a, b, c".
 std::string join(const std::vector<std::string>& items, std::string_view separator = ", ");
 
@@ -279,5 +292,12 @@ std::vector<CLI::Option*> add_symmetry_options(CLI::App& sub, symmetry_options& 
 /// a --smoothness outside [0, (window + 1) / 2] or a --min-pairs above
 /// --window.
 anima::symmetry_params<double> make_symmetry_params(const symmetry_options& o);
+
+/// "mahalanobis, window 10, smoothness 0".
+std::string describe(const symmetry_options& o, const anima::symmetry_params<double>& p);
+
+/// The settings used on a range of `frames` frames: metric, window,
+/// smoothness, candidate_window and min_pairs.
+json settings_json(const symmetry_options& o, const anima::symmetry_params<double>& p, std::size_t frames);
 
 }  // namespace anima_cli

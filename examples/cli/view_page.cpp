@@ -108,9 +108,9 @@ json contacts_json(const clip_t& c, const clip_points& pts, anima::signed_axis u
     try {
         const auto contacts = anima::find_contacts(c, params);
         for (const auto& foot : contacts.feet) {
-            json runs = json::array();
-            for (const auto& r : foot.contacts) runs.push_back({r.first, r.last});
-            feet.push_back({{"name", foot.name}, {"points", foot_points(c.skeleton(), pts, foot.joint)}, {"runs", runs}});
+            feet.push_back({{"name", foot.name},
+                            {"points", foot_points(c.skeleton(), pts, foot.joint)},
+                            {"runs", to_json(foot.contacts)}});
         }
     } catch (const anima::error&) {
         // A skeleton without feet (a hand, a single chain): no contacts to show.
