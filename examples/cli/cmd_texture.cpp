@@ -120,9 +120,11 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
     img.height = height;
     std::vector<unsigned char>& px = img.rgb;
     px.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3, 255);
-    const auto put = [&](int x, int y, const unsigned char* rgb) {
-        if (x < 0 || x >= width || y < 0 || y >= height) return;
-        std::copy(rgb, rgb + 3, px.begin() + static_cast<std::ptrdiff_t>((static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3));
+    // Pixels x0..x1 (inclusive) of rows y0..y1 - 1, clipped to the image.
+    const auto fill = [&](int x0, int x1, int y0, int y1, const unsigned char* rgb) {
+        for (int y = std::max(y0, 0); y < std::min(y1, height); ++y)
+            for (int x = std::max(x0, 0); x <= std::min(x1, width - 1); ++x)
+                std::copy(rgb, rgb + 3, px.begin() + (static_cast<std::ptrdiff_t>(y) * width + x) * 3);
     };
     std::vector<double> lo(shown.size()), hi(shown.size());
     for (std::size_t i = 0; i < shown.size(); ++i) {
@@ -136,7 +138,7 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
             for (std::size_t i = 0; i < shown.size(); ++i) {
                 const double range = hi[i] - lo[i];
                 colour(range > 1e-9 ? (m(f, shown[i]) - lo[i]) / range : 0.5, rgb);
-                for (int y = 0; y < row_h; ++y) put(x, top + static_cast<int>(i) * row_h + y, rgb);
+                fill(x, x, top + static_cast<int>(i) * row_h, top + static_cast<int>(i + 1) * row_h, rgb);
             }
         }
     };
@@ -147,19 +149,16 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
     const std::size_t m = t.texton.m;
     for (std::size_t i = 0, first = 0; i < inputs.size(); first += inputs[i].frames(), ++i) {
         const std::size_t last = first + inputs[i].frames() - 1;
-        for (int x = x_of(first); x <= x_of(first + m - 1); ++x)
-            for (int y = 0; y < strip; ++y) put(x, y, green);
-        for (int x = x_of(last + 1 - m); x <= x_of(last); ++x)
-            for (int y = 0; y < strip; ++y) put(x, y, blue);
+        fill(x_of(first), x_of(first + m - 1), 0, strip, green);
+        fill(x_of(last + 1 - m), x_of(last), 0, strip, blue);
     }
     for (const auto& [first, last] : t.overlap_spans)
-        for (int x = x_of(first); x <= x_of(last); ++x)
-            for (int y = 0; y < strip; ++y) put(x, img.texture_top() - strip + y, orange);
+        fill(x_of(first), x_of(last), img.texture_top() - strip, img.texture_top(), orange);
     const auto crossings = cut_crossings(t);
     for (std::size_t i = 0; i < shown.size(); ++i) {
         const std::size_t r = static_cast<std::size_t>(shown[i]) / 3;
-        for (std::size_t k : crossings[r])
-            for (int y = 0; y < row_h; ++y) put(x_of(k), img.texture_top() + static_cast<int>(i) * row_h + y, red);
+        const int y = img.texture_top() + static_cast<int>(i) * row_h;
+        for (std::size_t k : crossings[r]) fill(x_of(k), x_of(k), y, y + row_h, red);
     }
     return img;
 }
