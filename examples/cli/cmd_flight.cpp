@@ -43,7 +43,8 @@ struct flight_options {
 void write_plot(const std::string& path, const std::vector<double>& before, const std::vector<double>& after,
                 const std::string& title) {
     const double keys = static_cast<double>(before.size());
-    svg_chart chart(640, title, {}, 60, 20);
+    // Wide enough for the title (about 0.6 em a character, 14 px bold).
+    svg_chart chart(std::max(640.0, 24 + 8.6 * static_cast<double>(title.size())), title, {}, 60, 20);
     const chart_panel p = chart.panel(300, 1, keys, 0, std::max(before.back(), after.back()), "time (s)");
     p.y_axis(4);
     for (std::size_t k = 0; k < before.size(); ++k) {
