@@ -207,7 +207,8 @@ std::string plot_svg(const plot_image& img, const std::string& name, const std::
             const double y1 = p.top + strip + static_cast<double>((j + 1) * static_cast<std::size_t>(img.row_h));
             svg.line(left - 4, y0 + 0.5, left - 4, y1 - 0.5, i % 2 ? "#999" : "#555", 2);
             const double size = std::min(9.0, std::max(6.0, y1 - y0));
-            if (y1 - y0 >= 6) svg.text(left - 8, (y0 + y1) / 2 + size / 3, inputs[0].skeleton()[joint].name, size, "#333", "end");
+            const std::string& joint_name = inputs[0].skeleton()[joint].name;
+            if (y1 - y0 >= 6) svg.text(left - 8, (y0 + y1) / 2 + size / 3, joint_name, size, "#333", "end");
             i = j + 1;
         }
         return p;
@@ -586,7 +587,8 @@ void run_texture(texture_options o) {
 
     const skate_check skate{anima::clip_foot_skate(clips, up).median, anima::clip_foot_skate(t.motion, up).median};
     if (o.json) {
-        json out = texture_json(o, firsts, clips, texton, t, check, skate, {read_seconds, write_seconds, total.elapsed()});
+        const stage_times times{read_seconds, write_seconds, total.elapsed()};
+        json out = texture_json(o, firsts, clips, texton, t, check, skate, times);
         if (clips.size() > 1) out["offsets_from"] = o.inputs[0];  // the output uses the first clip's skeleton
         if (clips.size() > 1)
             out["order"] = {{"rule", o.order},

@@ -67,8 +67,9 @@ void write_feet_plot(const std::string& path, const std::string& title, const an
     chart.skip(28);
     const chart_panel speed = chart.panel(190, t0, t1, 0, speed_peak * 1.05,
                                           "horizontal speed on the ground: skate (body heights/s)");
+    const double window_start = static_cast<double>(before.start_frame) * dt;
     for (const chart_panel* panel : {&rise, &speed}) {
-        panel->shade(static_cast<double>(before.start_frame) * dt, static_cast<double>(before.end_frame) * dt, "#fdebd0");
+        panel->shade(window_start, static_cast<double>(before.end_frame) * dt, "#fdebd0");
         panel->y_axis(4);
     }
     chart.x_axis(speed, 8, "time in the joined clip (s); shaded: the transition window");

@@ -41,7 +41,8 @@ void chart_panel::series(const std::vector<double>& v, double x_first, double dx
             flush();
             continue;
         }
-        points += (points.empty() ? "" : " ") + svg_number(x(at)) + "," + svg_number(std::clamp(y(v[k]), top, bottom()));
+        const double py = std::clamp(y(v[k]), top, bottom());
+        points += (points.empty() ? "" : " ") + svg_number(x(at)) + "," + svg_number(py);
     }
     flush();
 }
@@ -57,7 +58,8 @@ void draw_mark(svg_document& svg, double x, double y, mark shape, std::string_vi
                        (shape == mark::dashed ? " stroke-dasharray=\"4,2\"" : "") + "/>");
     const double s = 6, tip = shape == mark::up ? y - s : y + s, base = shape == mark::up ? y + s * 0.6 : y - s * 0.6;
     svg.raw("<polygon points=\"" + svg_number(x - s) + "," + svg_number(base) + " " + svg_number(x + s) + "," +
-            svg_number(base) + " " + svg_number(x) + "," + svg_number(tip) + "\" fill=\"" + std::string(colour) + "\"/>");
+            svg_number(base) + " " + svg_number(x) + "," + svg_number(tip) + "\" fill=\"" + std::string(colour) +
+            "\"/>");
 }
 
 }  // namespace
