@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstddef>
 #include <iostream>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -106,13 +105,12 @@ void run_contacts(const contacts_options& o) {
 
 void register_contacts(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<contacts_options>();
-    CLI::App* sub = app.add_subcommand("contacts", "Foot contacts, airborne phases and foot skate of a clip");
+    const auto [sub, opts] = add_command<contacts_options>(
+        app, "contacts", "Foot contacts, airborne phases and foot skate of a clip", run_contacts);
     sub->add_option("CLIP", opts->input, "BVH clip")->required()->type_name("CLIP.bvh");
     sub->add_option("--foot", opts->feet, "A foot joint (repeat for each; default: found by name or as the lowest leaves)")
         ->type_name("NAME");
     add_up_option(*sub, opts->up, "Up axis (default: guessed from the skeleton)");
     sub->add_option("--plot", opts->plot, "Plot each foot's height and contacts against time (SVG)")->type_name("OUT.svg");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
-    sub->callback([opts] { run_contacts(*opts); });
 }

@@ -7,7 +7,6 @@
 
 #include <cmath>
 #include <iostream>
-#include <memory>
 #include <string>
 
 namespace anima_cli {
@@ -111,9 +110,9 @@ void run_convert(const convert_options& o) {
 
 void register_convert(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<convert_options>();
-    CLI::App* sub = app.add_subcommand(
-        "convert", "Read, validate and write a BVH file, optionally changing rotation order, up axis or scale");
+    const auto [sub, opts] = add_command<convert_options>(
+        app, "convert", "Read, validate and write a BVH file, optionally changing rotation order, up axis or scale",
+        run_convert);
     sub->add_option("IN", opts->input, "BVH file to read")->required()->type_name("PATH");
     sub->add_option("OUT", opts->output, "BVH file to write")->required()->type_name("PATH");
     opts->order_opt = sub->add_option("--order", opts->order,
@@ -145,5 +144,4 @@ void register_convert(CLI::App& app) {
                                   CLI::IsMember(anima::enum_name_list<anima::euler_angles>()))
                           ->type_name("MODE");
     sub->add_flag("--json", opts->json, "Print a JSON summary instead of a line of text");
-    sub->callback([opts] { run_convert(*opts); });
 }

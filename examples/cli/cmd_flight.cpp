@@ -17,7 +17,6 @@
 #include <cmath>
 #include <cstddef>
 #include <iostream>
-#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -169,10 +168,10 @@ void run_flight(const flight_options& o) {
 
 void register_flight(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<flight_options>();
-    CLI::App* sub = app.add_subcommand(
-        "flight", "Optimise the key times (and poses) of a motion in flight: minimise T^-1 int sum F_i^2 over the root's "
-                  "generalised forces");
+    const auto [sub, opts] = add_command<flight_options>(
+        app, "flight",
+        "Optimise the key times (and poses) of a motion in flight: minimise T^-1 int sum F_i^2 over the root's "
+        "generalised forces", run_flight);
     sub->add_option("KEYS", opts->keys_path, "Key set (JSON, see docs/flight.md)")->type_name("KEYS.json");
     sub->add_option("--example", opts->example, "A built-in key set instead of KEYS.json")
         ->check(CLI::IsMember({"somersault"}));
@@ -192,5 +191,4 @@ void register_flight(CLI::App& app) {
     add_view_option(*sub, opts->view, "the initial and the optimised timing, the keys marked");
     sub->add_flag("--progress", opts->progress, "Report every iteration on stderr (runs longer than 2 s always do)");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
-    sub->callback([opts] { run_flight(*opts); });
 }

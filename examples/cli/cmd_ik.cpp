@@ -364,8 +364,11 @@ void run_ik(const ik_options& o) {
 
 void register_ik(CLI::App& app) {
     using namespace anima_cli;
-    auto o = std::make_shared<ik_options>();
-    auto* sub = app.add_subcommand("ik", "Inverse kinematics: move joints to targets in one frame, by an offset over a range, or per frame from a CSV file");
+    const auto [sub, o] = add_command<ik_options>(
+        app, "ik",
+        "Inverse kinematics: move joints to targets in one frame, by an offset over a range, or per frame from a "
+        "CSV file",
+        run_ik);
     sub->add_option("input", o->input, "Input BVH file")->required()->check(CLI::ExistingFile);
     sub->add_option("--frame", o->frame, "Frame to solve (target mode)")->check(count_up_to(max_frames));
     sub->add_option("--effector", o->effectors, "Joint to move (repeat, one per --target)");
@@ -387,5 +390,4 @@ void register_ik(CLI::App& app) {
     sub->add_option("-o,--output", o->output, "Output BVH file");
     add_view_option(*sub, o->view, "the clip before and after, the targets shown");
     sub->add_flag("--json", o->json, "Print the result as JSON");
-    sub->callback([o] { run_ik(*o); });
 }

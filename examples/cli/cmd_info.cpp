@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <iostream>
-#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -127,10 +126,9 @@ void run_info(const info_options& o) {
 }  // namespace anima_cli
 
 void register_info(CLI::App& app) {
-    auto opts = std::make_shared<anima_cli::info_options>();
-    CLI::App* sub = app.add_subcommand(
-        "info", "Print a BVH file's skeleton, frame count and rate, channels, and guessed up axis and units");
+    const auto [sub, opts] = anima_cli::add_command<anima_cli::info_options>(
+        app, "info", "Print a BVH file's skeleton, frame count and rate, channels, and guessed up axis and units",
+        anima_cli::run_info);
     sub->add_option("FILE", opts->input, "BVH file")->required()->type_name("PATH");
     sub->add_flag("--json", opts->json, "Print one JSON object instead of text");
-    sub->callback([opts] { anima_cli::run_info(*opts); });
 }

@@ -10,7 +10,6 @@
 
 #include <cstddef>
 #include <iostream>
-#include <memory>
 #include <string>
 #include <type_traits>
 
@@ -74,13 +73,12 @@ void run_maxflow(const maxflow_options& o) {
 }  // namespace anima_cli
 
 void register_maxflow(CLI::App& app) {
-    auto opts = std::make_shared<anima_cli::maxflow_options>();
-    CLI::App* sub = app.add_subcommand(
-        "maxflow", "Solve a DIMACS max-flow problem: the flow value, the minimum cut's sides, the time taken");
+    const auto [sub, opts] = anima_cli::add_command<anima_cli::maxflow_options>(
+        app, "maxflow", "Solve a DIMACS max-flow problem: the flow value, the minimum cut's sides, the time taken",
+        anima_cli::run_maxflow);
     sub->add_option("FILE", opts->input, "DIMACS max-flow file (p max NODES ARCS, n ID s|t, a U V CAP)")
         ->required()
         ->type_name("PATH");
     sub->add_flag("--real", opts->real, "Read capacities as real numbers (default: whole numbers, 64-bit)");
     sub->add_flag("--json", opts->json, "Print one JSON object instead of text");
-    sub->callback([opts] { anima_cli::run_maxflow(*opts); });
 }

@@ -13,7 +13,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <iostream>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -179,9 +178,10 @@ void run_playback(const playback_options& o) {
 
 void register_playback(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<playback_options>();
-    CLI::App* sub = app.add_subcommand(
-        "playback", "Play a clip forwards and backwards, turning at its symmetric frames, into a motion of any length");
+    const auto [sub, opts] = add_command<playback_options>(
+        app, "playback",
+        "Play a clip forwards and backwards, turning at its symmetric frames, into a motion of any length",
+        run_playback);
     sub->add_option("IN", opts->input, "BVH file to play")->required()->type_name("PATH");
     sub->add_option("--frames", opts->frames, "Length of the new motion in frames")
         ->required()
@@ -218,5 +218,4 @@ void register_playback(CLI::App& app) {
                   "Hold feet that are on the ground through a turn or jump in place, IK on the legs (the "
                   "default; --no-plant-feet leaves them as the turns left them)");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
-    sub->callback([opts] { run_playback(*opts); });
 }

@@ -17,7 +17,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
-#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -208,9 +207,10 @@ void run_poisson(const poisson_options& o) {
 
 void register_poisson(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<poisson_options>();
-    CLI::App* sub = app.add_subcommand(
-        "poisson", "Solve the 5-point Poisson equation on a grid with multigrid, the sine transform or CG, and time it");
+    const auto [sub, opts] = add_command<poisson_options>(
+        app, "poisson",
+        "Solve the 5-point Poisson equation on a grid with multigrid, the sine transform or CG, and time it",
+        run_poisson);
     sub->add_option("--grid", opts->grid, "W x H unknowns (unit spacing), e.g. 513x257")->required()->type_name("WxH");
     sub->add_option("--rhs", opts->rhs, "Right-hand side f: 'random' (uniform in [-1, 1]) or a CSV file of H rows of W numbers")
         ->type_name("random|FILE.csv")
@@ -230,5 +230,4 @@ void register_poisson(CLI::App& app) {
     add_setting(*sub, "--max-cycles", opts->max_cycles, "Most multigrid cycles", integer_in(1, 100000));
     sub->add_option("--out", opts->output, "Write u as CSV, H rows of W numbers")->type_name("U.csv");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
-    sub->callback([opts] { run_poisson(*opts); });
 }

@@ -10,7 +10,6 @@
 #include <cstddef>
 #include <iostream>
 #include <limits>
-#include <memory>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -397,8 +396,8 @@ void run_render(const render_options& o) {
 
 void register_render(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<render_options>();
-    CLI::App* sub = app.add_subcommand("render", "Draw stick figures of chosen frames side by side into an SVG file");
+    const auto [sub, opts] = add_command<render_options>(
+        app, "render", "Draw stick figures of chosen frames side by side into an SVG file", run_render);
     sub->add_option("IN", opts->input, "BVH file to read")->required()->type_name("PATH");
     sub->add_option("OUT", opts->output, "SVG file to write")->required()->type_name("PATH");
     opts->frames_opt = sub->add_option("--frames", opts->frames, "Frames to draw, comma-separated (0-based), e.g. 0,40,80")
@@ -440,5 +439,4 @@ void register_render(CLI::App& app) {
     opts->span_opt = sub->add_option("--span", opts->span, "--animate: the frames to play, A-B (default: all)")
                          ->type_name("A-B")
                          ->needs(animate);
-    sub->callback([opts] { run_render(*opts); });
 }

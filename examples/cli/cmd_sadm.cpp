@@ -22,7 +22,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -317,8 +316,8 @@ void register_sadm(CLI::App& app) {
     const char* dir_help = "Folder with images/NAME.{jpg,png,pgm} and points/NAME.pts, frames in name order";
     const char* split_help = "every:N holds out every Nth frame, last:N the last N frames (train skips them, eval uses only them)";
 
-    auto t = std::make_shared<train_options>();
-    CLI::App* train = sadm->add_subcommand("train", "Build the shape and grey-level models and the b_s -> b_g mapping");
+    const auto [train, t] = add_command<train_options>(
+        *sadm, "train", "Build the shape and grey-level models and the b_s -> b_g mapping", run_train);
     train->add_option("DIR", t->dir, dir_help)->required()->type_name("DIR");
     train->add_option("--out", t->output, "Model file to write")->required()->type_name("MODEL");
     add_setting(*train, "--regressor", t->regressor, "b_s -> b_g mapping",
@@ -332,10 +331,9 @@ void register_sadm(CLI::App& app) {
         ->check(integer_in(0, 100000));
     train->add_flag("--progress", t->progress, "Report progress on stderr");
     train->add_flag("--json", t->json, "Print a JSON object instead of text");
-    train->callback([t] { run_train(*t); });
 
-    auto e = std::make_shared<eval_options>();
-    CLI::App* eval = sadm->add_subcommand("eval", "NCC per grey parameter and PSNR per frame on a folder's frames");
+    const auto [eval, e] = add_command<eval_options>(
+        *sadm, "eval", "NCC per grey parameter and PSNR per frame on a folder's frames", run_eval);
     eval->add_option("MODEL", e->model, "Model file from sadm train")->required()->type_name("MODEL");
     eval->add_option("DIR", e->dir, dir_help)->required()->type_name("DIR");
     eval->add_option("--noise", e->noise, "Gaussian noise (standard deviation, pixels) on the landmarks")
@@ -347,14 +345,12 @@ void register_sadm(CLI::App& app) {
         ->type_name("IMAGE");
     eval->add_flag("--progress", e->progress, "Report progress on stderr");
     eval->add_flag("--json", e->json, "Print a JSON object (ncc, psnr, psnr_mean, ...) instead of text");
-    eval->callback([e] { run_eval(*e); });
 
-    auto s = std::make_shared<synth_options>();
-    CLI::App* synth = sadm->add_subcommand("synth", "Synthesise the face for a landmark file");
+    const auto [synth, s] =
+        add_command<synth_options>(*sadm, "synth", "Synthesise the face for a landmark file", run_synth);
     synth->add_option("MODEL", s->model, "Model file from sadm train")->required()->type_name("MODEL");
     synth->add_option("LANDMARKS", s->landmarks, ".pts file, image coordinates")->required()->type_name("PTS");
     synth->add_option("--out", s->output, "Image to write (.png or .pgm)")->required()->type_name("IMAGE");
     synth->add_option("--neutral", s->neutral, "Frame to paste the face into (Poisson blending); else a black canvas")
         ->type_name("IMAGE");
-    synth->callback([s] { run_synth(*s); });
 }

@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -136,9 +135,10 @@ void run_smooth(const smooth_options& o) {
 
 void register_smooth(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<smooth_options>();
-    CLI::App* sub = app.add_subcommand(
-        "smooth", "Remove the jumps at the seams of a stitched clip by Poisson smoothing (Eq 14), keeping its detail");
+    const auto [sub, opts] = add_command<smooth_options>(
+        app, "smooth",
+        "Remove the jumps at the seams of a stitched clip by Poisson smoothing (Eq 14), keeping its detail",
+        run_smooth);
     sub->add_option("IN", opts->input, "BVH clip")->required();
     sub->add_option("--seams", opts->seams, "Frames where a new piece starts (the jump is between F-1 and F)")
         ->required()
@@ -157,5 +157,4 @@ void register_smooth(CLI::App& app) {
                 "2d mode: beyond the first and last DOF, neumann (free) or dirichlet (the paper's zero padding)",
                 CLI::IsMember(anima::enum_name_list<anima::boundary>()));
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
-    sub->callback([opts] { run_smooth(*opts); });
 }

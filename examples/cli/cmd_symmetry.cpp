@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstddef>
 #include <iostream>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -236,9 +235,9 @@ void run_symmetry(const symmetry_cli_options& o) {
 
 void register_symmetry(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<symmetry_cli_options>();
-    CLI::App* sub = app.add_subcommand(
-        "symmetry", "Find the frames where a clip can be played backwards without a seam (turning candidates)");
+    const auto [sub, opts] = add_command<symmetry_cli_options>(
+        app, "symmetry", "Find the frames where a clip can be played backwards without a seam (turning candidates)",
+        run_symmetry);
     sub->add_option("IN", opts->input, "BVH file to analyse")->required()->type_name("PATH");
     add_symmetry_options(*sub, opts->symmetry);
     add_frame_range_options(*sub, opts->range);
@@ -252,5 +251,4 @@ void register_symmetry(CLI::App& app) {
         ->check(integer_in(1, 8192))
         ->needs(matrix);
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
-    sub->callback([opts] { run_symmetry(*opts); });
 }

@@ -22,7 +22,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <iostream>
-#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -615,9 +614,10 @@ void run_texture(texture_options o) {
 
 void register_texture(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<texture_options>();
-    CLI::App* sub = app.add_subcommand(
-        "texture", "Make a long, seamless motion from a clip (or several): graph-cut textons patched end to end, Poisson-smoothed");
+    const auto [sub, opts] = add_command<texture_options>(
+        app, "texture",
+        "Make a long, seamless motion from a clip (or several): graph-cut textons patched end to end, Poisson-smoothed",
+        run_texture);
     sub->add_option("IN", opts->inputs,
                     "BVH clip; several clips of one skeleton and frame rate make one loop through all of them, in the "
                     "order given")
@@ -680,5 +680,4 @@ void register_texture(CLI::App& app) {
                   "default; --no-plant-feet leaves them as the seams left them)");
     sub->add_flag("--progress", opts->progress, "Report the time of each stage on stderr");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
-    sub->callback([opts] { run_texture(*opts); });
 }

@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstddef>
 #include <iostream>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -232,9 +231,9 @@ void run_transition(const transition_options& o) {
 
 void register_transition(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<transition_options>();
-    CLI::App* sub = app.add_subcommand(
-        "transition", "Join two clips with a variable-timing hierarchical transition (or a baseline) at any frame");
+    const auto [sub, opts] = add_command<transition_options>(
+        app, "transition", "Join two clips with a variable-timing hierarchical transition (or a baseline) at any frame",
+        run_transition);
     sub->add_option("A", opts->a, "BVH clip playing first")->required();
     sub->add_option("B", opts->b, "BVH clip to switch to (same joint hierarchy)")->required();
     sub->add_option("--at", opts->at, "Frame of A at which the switch is triggered")
@@ -266,5 +265,4 @@ void register_transition(CLI::App& app) {
                   "stay put, within the clips' own root acceleration (default; --legs-only leaves the root's path "
                   "as the method made it)");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
-    sub->callback([opts] { run_transition(*opts); });
 }

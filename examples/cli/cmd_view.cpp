@@ -7,7 +7,6 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,9 +38,9 @@ void run_view(const view_options& o) {
 
 void register_view(CLI::App& app) {
     using namespace anima_cli;
-    auto opts = std::make_shared<view_options>();
-    CLI::App* sub = app.add_subcommand(
-        "view", "Write a self-contained HTML page that plays clips side by side or overlaid, with foot contacts");
+    const auto [sub, opts] = add_command<view_options>(
+        app, "view", "Write a self-contained HTML page that plays clips side by side or overlaid, with foot contacts",
+        run_view);
     sub->add_option("CLIPS", opts->inputs, "BVH clips to play together")->required()->type_name("CLIP.bvh ...");
     sub->add_option("-o,--output", opts->output, "The page to write (open it in a browser, no server needed)")
         ->required()
@@ -49,5 +48,4 @@ void register_view(CLI::App& app) {
     sub->add_flag("--overlay", opts->overlay, "Draw the clips in one place, one colour each, instead of side by side");
     sub->add_option("--title", opts->title, "Title of the page (default: the file names)");
     add_up_option(*sub, opts->up, "The clips' up axis, instead of the one guessed from each skeleton");
-    sub->callback([opts] { run_view(*opts); });
 }

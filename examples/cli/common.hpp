@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <initializer_list>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -96,6 +97,17 @@ CLI::Validator number_in(double lo, double hi, bool lo_open = false, bool hi_ope
 CLI::Validator positive_number();
 /// A finite number >= 0.
 CLI::Validator non_negative_number();
+
+/// A subcommand of `app` whose options fill an `Options`, kept alive by the
+/// subcommand's callback, which calls run(options) after parsing.
+template <class Options, class Run>
+std::pair<CLI::App*, std::shared_ptr<Options>> add_command(CLI::App& app, const std::string& name,
+                                                           const std::string& about, Run run) {
+    auto options = std::make_shared<Options>();
+    CLI::App* sub = app.add_subcommand(name, about);
+    sub->callback([options, run] { run(*options); });
+    return {sub, options};
+}
 
 /// An option whose text `check` validates and whose default --help shows.
 template <class T>
