@@ -91,13 +91,7 @@ json point_json(const vec3& q) { return json::array({mm(q.x()), mm(q.y()), mm(q.
 /// drawn as the foot.
 std::vector<std::size_t> foot_points(const skeleton_t& sk, const clip_points& pts, std::size_t joint) {
     std::vector<std::size_t> out;
-    std::vector<bool> inside(sk.size(), false);
-    for (std::size_t j = 0; j < sk.size(); ++j) {
-        inside[j] = j == joint || (sk[j].parent >= 0 && inside[static_cast<std::size_t>(sk[j].parent)]);
-        if (!inside[j]) continue;
-        out.push_back(j);
-        if (pts.end_of[j] != std::string::npos) out.push_back(pts.end_of[j]);
-    }
+    for (const auto& p : anima::detail::foot_points_of(sk, joint)) out.push_back(p.end_site ? pts.end_of[p.joint] : p.joint);
     return out;
 }
 
