@@ -27,33 +27,6 @@ struct smooth_options {
     bool json = false;
 };
 
-// The largest jump across a seam beyond the trend of the neighbouring frame
-// differences, over rotation DOFs (degrees) and translation DOFs (units).
-struct jump {
-    double rotation = 0, translation = 0;
-    std::string worst;  // the DOF with the largest rotation jump
-};
-
-jump excess_jump(const Eigen::MatrixXd& m, std::size_t seam, const anima::dof_layout<double>& layout,
-                 const skeleton_t& sk) {
-    const Eigen::MatrixXd target = anima::seam_target_differences(m, {seam});
-    const auto face = static_cast<Eigen::Index>(seam - 1);
-    jump out;
-    for (Eigen::Index d = 0; d < m.cols(); ++d) {
-        const double e = std::abs(m(face + 1, d) - m(face, d) - target(face, d));
-        if (layout.dofs[static_cast<std::size_t>(d)].type == anima::dof::kind::rotation) {
-            const double deg = e * 180 / anima::pi<double>;
-            if (deg > out.rotation) {
-                out.rotation = deg;
-                out.worst = layout.name(sk, static_cast<std::size_t>(d));
-            }
-        } else {
-            out.translation = std::max(out.translation, e);
-        }
-    }
-    return out;
-}
-
 void run_smooth(const smooth_options& o) {
     check_outputs({{"--output", &o.output}});
     const clip_t c = load_clip(o.input);
@@ -86,13 +59,14 @@ void run_smooth(const smooth_options& o) {
     std::sort(sorted.begin(), sorted.end());
     sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
     for (std::size_t s : sorted) {
-        const jump b = excess_jump(before, s, layout, c.skeleton()), a = excess_jump(after, s, layout, c.skeleton());
+        const auto b = anima::measure_seam_jump(before, s, layout), a = anima::measure_seam_jump(after, s, layout);
+        const double degrees = 180 / anima::pi<double>;
         seams.push_back({{"frame", s},
-                         {"rotation_jump_before", b.rotation},
-                         {"rotation_jump_after", a.rotation},
+                         {"rotation_jump_before", b.rotation * degrees},
+                         {"rotation_jump_after", a.rotation * degrees},
                          {"translation_jump_before", b.translation},
                          {"translation_jump_after", a.translation},
-                         {"worst_dof", b.worst}});
+                         {"worst_dof", b.rotation > 0 ? layout.name(c.skeleton(), b.worst_rotation_dof) : ""}});
     }
     json out = {{"input", o.input},
                 {"frames", c.frames()},

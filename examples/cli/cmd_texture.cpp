@@ -52,21 +52,6 @@ void colour(double t, unsigned char* rgb) {
     for (int k = 0; k < 3; ++k) rgb[k] = static_cast<unsigned char>(std::lround(stops[i][k] * (1 - u) + stops[i + 1][k] * u));
 }
 
-/// Output frames where the stream crosses each row's graph-cut seams.
-std::vector<std::vector<std::size_t>> cut_crossings(const anima::motion_texture<double>& t) {
-    std::vector<std::vector<std::size_t>> out(t.texton.rows());
-    std::vector<std::vector<std::size_t>> seam_frames(t.texton.rows());
-    for (const auto& seam : t.texton.seams())
-        for (std::size_t r = 0; r < t.texton.rows(); ++r) seam_frames[r].push_back(seam.seam_frame(r));
-    for (std::size_t k = 1; k < t.stream.size(); ++k)
-        for (std::size_t r = 0; r < t.texton.rows(); ++r)
-            for (const std::size_t s : seam_frames[r]) {
-                const std::size_t p = t.stream[k - 1], q = t.stream[k];
-                if ((p + 1 == s && q == s) || (p == s && q + 1 == s)) out[r].push_back(k);
-            }
-    return out;
-}
-
 /// The input (top) and the texture (bottom) as DOF x frame images, one row
 /// per DOF coloured by its value within the input's range, the root's
 /// ground position left out (the texture's grows without bound), and DOFs
@@ -153,7 +138,7 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
     }
     for (const auto& [first, last] : t.overlap_spans)
         fill(x_of(first), x_of(last), img.texture_top() - strip, img.texture_top(), orange);
-    const auto crossings = cut_crossings(t);
+    const auto crossings = anima::seam_crossings(t.texton, t.stream, anima::seam_mark::cut);
     for (std::size_t i = 0; i < shown.size(); ++i) {
         const std::size_t r = static_cast<std::size_t>(shown[i]) / 3;
         const int y = img.texture_top() + static_cast<int>(i) * row_h;
@@ -287,13 +272,10 @@ seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) 
     seam_check out;
     // Against the fastest the input clips move (the texton's source speeds).
     out.speeds = anima::seam_speeds(t.motion, t.overlap_spans, t.texton.source_speeds);
-    for (const auto& s : out.speeds) {
-        if (s.joint_ratio > out.worst_joint) {
-            out.worst_joint = s.joint_ratio;
-            out.worst_joint_name = c.skeleton()[s.worst_joint].name;
-        }
-        out.worst_root = std::max(out.worst_root, s.root_ratio);
-    }
+    const auto worst = anima::worst_seam_speed(out.speeds);
+    out.worst_joint = worst.joint_ratio;
+    out.worst_joint_name = worst.joint_ratio > 0 ? c.skeleton()[worst.worst_joint].name : "";
+    out.worst_root = worst.root_ratio;
     for (std::size_t f = 0; f < t.motion.frames() && out.finite; ++f)
         for (std::size_t j = 0; j < t.motion.joints(); ++j)
             out.finite = out.finite && t.motion.rotation(f, j).coeffs().allFinite() && t.motion.translation(f, j).allFinite();
@@ -323,7 +305,7 @@ view_page texture_page(const texture_options& o, const std::vector<clip_t>& clip
                                         : "M2, laid over M1 where they overlap best"});
     }
     page.clips.push_back({"texture", t.motion});
-    const auto crossings = cut_crossings(t);
+    const auto crossings = anima::seam_crossings(t.texton, t.stream, anima::seam_mark::cut);
     for (std::size_t pass = 0; pass < t.overlap_spans.size(); ++pass) {
         const auto [first, last] = t.overlap_spans[pass];
         page.markers.push_back({texture, first, last, "overlap", "pass " + std::to_string(pass + 1) + " through an overlap"});

@@ -160,6 +160,28 @@ TEST_CASE("a stitched CMU walk is smoothed at the seam and kept elsewhere") {
     }
     CHECK(worst_before > 1.0);
     CHECK(worst_after < 1e-6);
+    // measure_seam_jump: the same excess, split by kind of DOF.
+    double rotation = 0, translation = 0;
+    std::size_t worst = 0;
+    for (Eigen::Index d = 0; d < before.cols(); ++d) {
+        const double e = std::abs(excess_jump(before, 120, d));
+        if (layout.dofs[static_cast<std::size_t>(d)].type == anima::dof::kind::translation) {
+            translation = std::max(translation, e);
+        } else if (e > rotation) {
+            rotation = e;
+            worst = static_cast<std::size_t>(d);
+        }
+    }
+    const auto jump = anima::measure_seam_jump(before, 120, layout);
+    CHECK(jump.rotation == doctest::Approx(rotation).epsilon(1e-12));
+    CHECK(jump.worst_rotation_dof == worst);
+    CHECK(jump.translation == doctest::Approx(translation).epsilon(1e-12));
+    CHECK(translation > 0);
+    const auto smoothed = anima::measure_seam_jump(after, 120, layout);
+    CHECK(smoothed.rotation < 1e-6);
+    CHECK(smoothed.translation < 1e-6);
+    CHECK_THROWS_AS(anima::measure_seam_jump(before.leftCols(5), 120, layout), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::measure_seam_jump(before, 0, layout), anima::invalid_argument);
     // The end frames are the input's.
     for (std::size_t j = 0; j < c.joints(); ++j) {
         CHECK(c.rotation(0, j).angularDistance(out.motion.rotation(0, j)) < 1e-9);

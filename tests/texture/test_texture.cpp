@@ -44,15 +44,11 @@ void check_well_formed(const anima::clip<T>& c, std::size_t frames) {
 
 template <class T>
 T worst_joint(const std::vector<anima::seam_speed<T>>& s) {
-    T w = 0;
-    for (const auto& x : s) w = std::max(w, x.joint_ratio);
-    return w;
+    return anima::worst_seam_speed(s).joint_ratio;
 }
 template <class T>
 T worst_root(const std::vector<anima::seam_speed<T>>& s) {
-    T w = 0;
-    for (const auto& x : s) w = std::max(w, x.root_ratio);
-    return w;
+    return anima::worst_seam_speed(s).root_ratio;
 }
 
 // ---------------------------------------------------------------------------
@@ -159,6 +155,31 @@ TEST_CASE_TEMPLATE("texture: exactly N frames of unit quaternions and finite val
                 const std::size_t s = texton.blend_centre(r);
                 CHECK(((t.stream[k] == s && t.stream[k - 1] + 1 == s) || (t.stream[k] + 1 == s && t.stream[k - 1] == s)));
             }
+    }
+    // Played forwards, the stream passes each seam once per loop of the
+    // texton: every row's crossings are one texton length apart, at its
+    // graph-cut frame or at its fade's middle as asked. A fade as long as
+    // the overlap has its middle away from most rows' cuts.
+    auto faded = p;
+    faded.texton.blend.frames = faded.texton.overlap;
+    const auto wide = anima::make_texton(c, faded.texton);
+    std::size_t apart = 0;
+    for (std::size_t r = 0; r < wide.rows(); ++r) apart += wide.seam_frame(r) != wide.blend_centre(r);
+    REQUIRE(apart > 0);
+    const auto forward = anima::patch_texton(wide, 1700, faded);
+    const std::size_t L = wide.motion.frames();
+    for (const auto mark : {anima::seam_mark::cut, anima::seam_mark::fade_centre}) {
+        const auto crossings = anima::seam_crossings(wide, forward.stream, mark);
+        REQUIRE(crossings.size() == wide.rows());
+        for (std::size_t r = 0; r < wide.rows(); ++r) {
+            const std::size_t s = mark == anima::seam_mark::cut ? wide.seam_frame(r) : wide.blend_centre(r);
+            REQUIRE(s > 0);
+            std::vector<std::size_t> expected;  // the output frames after the first that show s
+            for (std::size_t k = (s + L - forward.stream[0]) % L; k < 1700; k += L)
+                if (k > 0) expected.push_back(k);
+            CHECK(crossings[r] == expected);
+        }
+        if (mark == anima::seam_mark::fade_centre) CHECK(crossings == forward.row_seams);
     }
     const auto t = anima::make_motion_texture(c, 1700, p);
     CHECK(t.timings.total == doctest::Approx(t.timings.features + t.timings.search + t.timings.cut + t.timings.blend +
@@ -399,6 +420,28 @@ TEST_CASE_TEMPLATE("seam speeds: limits and ratios by hand", T, float, double) {
     CHECK(s[0].worst_joint == 2);
     CHECK(s[0].root_ratio == doctest::Approx(1));
     CHECK(s[0].within());
+    // The worst of several: the largest joint ratio with its joint and span,
+    // the largest root ratio wherever it is; zero for none.
+    const auto several = anima::seam_speeds(c, {{1, 1}, {2, 2}, {0, 0}}, limits);
+    REQUIRE(several.size() == 3);
+    const auto worst = anima::worst_seam_speed(several);
+    CHECK(worst.joint_ratio == doctest::Approx(1.0));  // steps 1->2, 2->3: 0.5 rad / 0.5 s
+    CHECK(worst.worst_joint == 2);
+    CHECK(worst.first == 2);
+    CHECK(worst.root_ratio == doctest::Approx(1));
+    std::vector<anima::seam_speed<T>> made(2);
+    made[0].joint_ratio = T(3);
+    made[0].worst_joint = 4;
+    made[0].root_ratio = T(0.5);
+    made[1].joint_ratio = T(2);
+    made[1].root_ratio = T(7);
+    made[1].first = 9;
+    const auto mixed = anima::worst_seam_speed(made);
+    CHECK(mixed.joint_ratio == T(3));
+    CHECK(mixed.worst_joint == 4);
+    CHECK(mixed.first == 0);
+    CHECK(mixed.root_ratio == T(7));
+    CHECK(anima::worst_seam_speed(std::vector<anima::seam_speed<T>>{}).joint_ratio == T(0));
     CHECK(contains(invalid_argument_message([&] { (void)anima::seam_speeds(c, {{2, 4}}, limits); }), "[2, 4]"));
     anima::speed_limits<T> wrong;
     CHECK(contains(invalid_argument_message([&] { (void)anima::seam_speeds(c, {{0, 1}}, wrong); }), "limits for 0 joints"));

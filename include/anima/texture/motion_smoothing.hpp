@@ -178,6 +178,43 @@ Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, Eigen::Dynamic> seam_tar
     return d;
 }
 
+/// How far a frames x DOF motion (in `layout`) jumps across the seam at
+/// frame s beyond the trend of its neighbouring frame differences
+/// (seam_target_differences): the largest excess over its rotation DOFs
+/// (radians) and which DOF it is, and the largest over its translation DOFs
+/// (file units). What smooth_seams takes away; zero for a motion without
+/// a jump there.
+template <class T>
+struct seam_jump {
+    T rotation = T(0);
+    std::size_t worst_rotation_dof = 0;  ///< column of the largest rotation excess
+    T translation = T(0);
+};
+
+template <class Derived>
+seam_jump<typename Derived::Scalar> measure_seam_jump(const Eigen::MatrixBase<Derived>& m, std::size_t seam,
+                                                      const dof_layout<typename Derived::Scalar>& layout) {
+    using T = typename Derived::Scalar;
+    if (static_cast<std::size_t>(m.cols()) != layout.size())
+        throw invalid_argument("anima::measure_seam_jump: " + std::to_string(m.cols()) + " DOF columns for a layout of " +
+                               std::to_string(layout.size()));
+    const auto target = seam_target_differences(m, {seam});  // checks the seam and the values
+    const auto face = static_cast<Eigen::Index>(seam - 1);
+    seam_jump<T> out;
+    for (Eigen::Index d = 0; d < m.cols(); ++d) {
+        const T excess = std::abs(m(face + 1, d) - m(face, d) - target(face, d));
+        if (layout.dofs[static_cast<std::size_t>(d)].type == dof::kind::rotation) {
+            if (excess > out.rotation) {
+                out.rotation = excess;
+                out.worst_rotation_dof = static_cast<std::size_t>(d);
+            }
+        } else {
+            out.translation = std::max(out.translation, excess);
+        }
+    }
+    return out;
+}
+
 /// Smooths the seams of a frames x DOF motion; the first and last frames
 /// are kept. Throws anima::invalid_argument for fewer than 3 frames, a seam
 /// outside 1..frames-1, a non-finite value or bad parameters.

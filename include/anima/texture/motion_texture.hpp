@@ -175,28 +175,43 @@ std::vector<std::size_t> texture_stream(const motion_texton<T>& texton, std::siz
     return out;
 }
 
+/// Which texton frame of a row stands for a seam: where the graph cut
+/// switches clips (texton_join::seam_frame) or the middle of the fade
+/// around it (blend_centre, what smooth_seams takes).
+enum class seam_mark { cut, fade_centre };
+
+/// Per texton row, the frames k of a stream over the texton (texture_stream,
+/// motion_texture::stream) where it crosses that row's seams, either way:
+/// stream[k - 1] and stream[k] are the seam's frame and the one before it.
+template <class T>
+std::vector<std::vector<std::size_t>> seam_crossings(const motion_texton<T>& texton,
+                                                     const std::vector<std::size_t>& stream, seam_mark mark) {
+    const std::size_t rows = texton.rows();
+    const auto seams = texton.seams();
+    // Each row's seam frames, once: the stream is long, the seams few.
+    std::vector<std::vector<std::size_t>> at(rows);
+    for (std::size_t r = 0; r < rows; ++r)
+        for (const auto& seam : seams) at[r].push_back(mark == seam_mark::cut ? seam.seam_frame(r) : seam.blend_centre(r));
+    std::vector<std::vector<std::size_t>> out(rows);
+    for (std::size_t k = 1; k < stream.size(); ++k) {
+        const std::size_t p = stream[k - 1], q = stream[k];
+        for (std::size_t r = 0; r < rows; ++r)
+            for (const std::size_t c : at[r])
+                if ((p + 1 == c && q == c) || (p == c && q + 1 == c)) out[r].push_back(k);
+    }
+    return out;
+}
+
 namespace detail {
 
 /// Where the stream crosses each row's seams (out.row_seams) and the runs of
 /// texture frames inside an overlap of the texton (out.overlap_spans).
 template <class T>
 void locate_texture_seams(motion_texture<T>& out, const motion_texton<T>& texton, std::size_t frames) {
-    const std::size_t rows = texton.rows();
-    const auto seams = texton.seams();
     std::vector<bool> in_overlap(texton.motion.frames(), false);
-    for (const auto& s : seams)
+    for (const auto& s : texton.seams())
         for (std::size_t t = 0; t < s.overlap; ++t) in_overlap[s.overlap_start + t] = true;
-    // Each row's fade centres, once: the stream is long, the seams few.
-    std::vector<std::vector<std::size_t>> centres(rows);
-    for (std::size_t r = 0; r < rows; ++r)
-        for (const auto& seam : seams) centres[r].push_back(seam.blend_centre(r));
-    out.row_seams.resize(rows);
-    for (std::size_t k = 1; k < frames; ++k) {
-        const std::size_t p = out.stream[k - 1], q = out.stream[k];
-        for (std::size_t r = 0; r < rows; ++r)
-            for (const std::size_t c : centres[r])
-                if ((p + 1 == c && q == c) || (p == c && q + 1 == c)) out.row_seams[r].push_back(k);
-    }
+    out.row_seams = seam_crossings(texton, out.stream, seam_mark::fade_centre);
     for (std::size_t k = 0; k < frames; ++k) {
         if (!in_overlap[out.stream[k]]) continue;
         if (!out.overlap_spans.empty() && out.overlap_spans.back().second + 1 == k)

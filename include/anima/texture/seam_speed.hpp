@@ -73,4 +73,22 @@ std::vector<seam_speed<T>> seam_speeds(const clip<T>& c, const std::vector<std::
     return out;
 }
 
+/// The worst of several seams: the largest joint_ratio (with its joint and
+/// its span) and the largest root_ratio, which may be another seam's. All
+/// zero for no seam.
+template <class T>
+seam_speed<T> worst_seam_speed(const std::vector<seam_speed<T>>& speeds) {
+    seam_speed<T> out;
+    for (const auto& s : speeds) {
+        if (s.joint_ratio > out.joint_ratio) {
+            out.joint_ratio = s.joint_ratio;
+            out.worst_joint = s.worst_joint;
+            out.first = s.first;
+            out.last = s.last;
+        }
+        out.root_ratio = std::max(out.root_ratio, s.root_ratio);
+    }
+    return out;
+}
+
 }  // namespace anima
