@@ -34,9 +34,8 @@ void check(bool ok, const char* what) {
 }
 
 double worst(const std::vector<anima::seam_speed<double>>& s, bool root) {
-    double w = 0;
-    for (const auto& x : s) w = std::max(w, root ? x.root_ratio : x.joint_ratio);
-    return w;
+    const auto w = anima::worst_seam_speed(s);
+    return root ? w.root_ratio : w.joint_ratio;
 }
 
 }  // namespace

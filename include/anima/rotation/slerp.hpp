@@ -56,7 +56,6 @@ struct slerp_weight_keys {
     /// direct_series_small (1) or neither (2), for as few terms as suffice.
     int direct_tier = 2;
     T y[M];              ///< d - 1 (direct), else c - 1 with c the cosine of a quarter of the angle
-    T t_scale = T(1);    ///< 1 (direct) or 4: the series' parameter is t_scale t
     T inverse[M];        ///< 1 (direct), else 1 / (c (2c^2 - 1)) = sin(phi) / sin(theta)
 };
 
@@ -81,7 +80,6 @@ ANIMA_FORCE_INLINE slerp_weight_keys<T, M> prepare_slerp_weights(const T (&d)[M]
             k.inverse[m] = T(1) / (c * (T(2) * c * c - T(1)));
         }
     }
-    k.t_scale = k.direct ? T(1) : T(4);
     return k;
 }
 
