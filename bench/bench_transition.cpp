@@ -15,6 +15,10 @@
 //                                   workspace kept from call to call, nothing
 //                                   allocated, B not copied (placement only)
 //   BM_transition<..., 43 joints>   the two rows above on the run
+//   BM_transition<..., key joints timed, 43 joints>
+//                                   the per-call form with angular speeds measured
+//                                   for the key joints only
+//                                   (timing_params::every_joint = false): the same T
 //   BM_transition<crossfade>        anima::crossfade over 0.3 s, the fixed-length
 //                                   blend most engines use
 //   BM_transition<inertialize>      anima::inertialize with a 0.1 s half-life
@@ -69,8 +73,10 @@ void make_classified(benchmark::State& state, const anima::clip<double>& c, std:
     }
 }
 
-void into_classified(benchmark::State& state, const anima::clip<double>& c, std::size_t at, std::size_t to) {
-    const anima::transition_params params = classified(c);
+void into_classified(benchmark::State& state, const anima::clip<double>& c, std::size_t at, std::size_t to,
+                     bool every_joint = true) {
+    anima::transition_params params = classified(c);
+    params.timing.every_joint = every_joint;
     anima::transition_frames<double> out;
     anima::transition_workspace<double> workspace;
     for (auto _ : state) {
@@ -83,6 +89,7 @@ void variable_timing_preclassified(benchmark::State& state) { make_classified(st
 void variable_timing_into(benchmark::State& state) { into_classified(state, walk(), trigger, start); }
 void variable_timing_preclassified_43(benchmark::State& state) { make_classified(state, run(), 70, 30); }
 void variable_timing_into_43(benchmark::State& state) { into_classified(state, run(), 70, 30); }
+void variable_timing_into_43_key_joints(benchmark::State& state) { into_classified(state, run(), 70, 30, false); }
 
 void crossfade(benchmark::State& state) {
     const auto& c = walk();
@@ -122,6 +129,9 @@ BENCHMARK(variable_timing_preclassified_43)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(variable_timing_into_43)
     ->Name("BM_transition<variable_timing, classified, into, 43 joints>")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(variable_timing_into_43_key_joints)
+    ->Name("BM_transition<variable_timing, classified, into, key joints timed, 43 joints>")
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(crossfade)->Name("BM_transition<crossfade>")->Unit(benchmark::kMicrosecond);
 BENCHMARK(inertialize)->Name("BM_transition<inertialize>")->Unit(benchmark::kMicrosecond);

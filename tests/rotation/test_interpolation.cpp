@@ -327,22 +327,26 @@ TEST_CASE_TEMPLATE("slerp's worst angle error on mixed inputs is within GLM's ac
     CHECK(worst <= 2 * std::max(worst_glm, worst_eigen));
 }
 
-TEST_CASE_TEMPLATE("slerp is accurate on mid-range pairs and on both sides of the direct series' limit", Q,
+TEST_CASE_TEMPLATE("slerp is accurate on mid-range pairs and on both sides of the direct series' limit and tiers", Q,
                    ANIMA_QUAT_TYPES) {
     // Rotations 5 to 175 degrees apart, and 4-vector angles with 1 - cos(theta)
-    // just below and above direct_series_limit (where the weights switch from
-    // the series in cos(theta) - 1 to the quartered angle): the same bounds as
-    // on the mixed set, and the components within 4 eps of a long double slerp.
+    // just below and above slerp_direct_limit (where the weights switch from
+    // the series in cos(theta) - 1 to the quartered angle) and each bound of
+    // direct_series_bounds (where the direct series is cut shorter): the same
+    // bounds as on the mixed set, and the components within 4 eps of a long
+    // double slerp.
     using T = scalar<Q>;
     const T e = eps<T>();
     const bool dbl = sizeof(T) == sizeof(double);
     const ld bound = dbl ? 2e-15L : 5e-7L;
-    const ld limit = anima::detail::direct_series_limit<T>();
-    const ld switch_angle = 2 * std::acos(1 - limit);  // rotation angle: twice the 4-vector angle
+    std::vector<ld> switches{2 * std::acos(1 - ld(anima::detail::slerp_direct_limit<T>()))};  // rotation angles
+    for (int k = 0; k < anima::detail::direct_series_tiers<T>; ++k)
+        switches.push_back(2 * std::acos(1 - ld(anima::detail::direct_series_bounds<T>[k])));
     rng r(42);
     ld worst = 0;
-    for (int i = 0; i < 2000; ++i) {
+    for (int i = 0; i < 4000; ++i) {
         const lq a = r.unit_lq();
+        const ld switch_angle = switches[static_cast<std::size_t>(i / 4) % switches.size()];
         const ld angle = i % 2 == 0 ? r.uniform(5, 175) * pi / 180 : switch_angle * (1 + (i % 4 == 1 ? -1 : 1) * 1e-4L);
         const Q qa = from_lq<Q>(a), qb = from_lq<Q>(a * rot(angle, r.unit_vector()));
         const T t = T(r.uniform(0, 1));

@@ -1354,14 +1354,16 @@ void check_no_allocation(const anima::clip<T>& r) {
     given.class_a = given.class_b = anima::classify_motion(r, roles);
     anima::transition_params with_roles = given;
     with_roles.roles = roles;
+    anima::transition_params key_only = given;
+    key_only.timing.every_joint = false;
     const std::pair<std::size_t, std::size_t> frames[] = {{60, 20}, {80, 90}, {40, 120}, {60, 60}, {0, 0}};
     anima::transition_frames<T> out;
     anima::transition_workspace<T> ws;
     // The first calls size the output and the workspace...
-    for (const auto* p : {&given, &with_roles})
+    for (const auto* p : {&given, &with_roles, &key_only})
         for (auto [at, to] : frames) anima::make_transition_into(r, at, r, to, *p, out, ws);
     // ... after which no call allocates, whatever its frames and length.
-    for (const auto* p : {&given, &with_roles})
+    for (const auto* p : {&given, &with_roles, &key_only})
         for (const auto& f : frames) {
             CAPTURE(f.first);
             CAPTURE(f.second);
@@ -1382,6 +1384,82 @@ TEST_CASE("make_transition_into allocates nothing once it has seen the skeleton 
     check_no_allocation(run<float>());
     // The counter sees Eigen's allocations too.
     CHECK(allocations_in([] { Eigen::MatrixXd m(40, 40); }) > 0);
+}
+
+namespace {
+
+// timing_params::every_joint = false against the default on the same
+// transition: the key joints' speeds and times and so T as measured for
+// every joint (to rounding: the series' length is chosen from the largest
+// step of the joints measured), every angle bit for bit, the other joints'
+// speeds and times NaN, and the frames the same to rounding.
+template <class T>
+void check_key_joints_only(const anima::clip<T>& c, std::size_t at, std::size_t to, anima::timing_model model) {
+    CAPTURE(at);
+    CAPTURE(to);
+    anima::transition_params all;
+    all.class_a = all.class_b = anima::classify_motion(c, anima::joint_roles(c.skeleton()));
+    all.timing.model = model;
+    anima::transition_params keys = all;
+    keys.timing.every_joint = false;
+    const auto expected = anima::make_transition(c, at, c, to, all);
+    anima::transition_frames<T> got;
+    anima::transition_workspace<T> ws;
+    anima::make_transition_into(c, at, c, to, keys, got, ws);
+    const double tolerance = std::is_same_v<T, float> ? 1e-4 : 1e-11;
+    const auto close = [&](T g, T e) {
+        return std::abs(static_cast<double>(g) - static_cast<double>(e)) <=
+               tolerance * std::max(1.0, std::abs(static_cast<double>(e)));
+    };
+    CHECK(close(got.timing.duration, expected.timing.duration));
+    CHECK(got.timing.limiting_joint == expected.timing.limiting_joint);
+    std::size_t key = 0, other = 0;
+    for (std::size_t j = 0; j < c.joints(); ++j) {
+        const auto &g = got.timing.joints[j], &e = expected.timing.joints[j];
+        CHECK(same_bits(g.angle, e.angle));
+        CHECK(g.key == e.key);
+        if (e.key) {
+            ++key;
+            CHECK(close(g.speed_a, e.speed_a));
+            CHECK(close(g.speed_b, e.speed_b));
+            CHECK(close(g.acceleration_a, e.acceleration_a));
+            CHECK(close(g.acceleration_b, e.acceleration_b));
+            CHECK(close(g.time, e.time));
+        } else {
+            ++other;
+            CHECK((std::isnan(g.speed_a) && std::isnan(g.speed_b) && std::isnan(g.acceleration_a) &&
+                   std::isnan(g.acceleration_b) && std::isnan(g.time)));
+        }
+    }
+    CHECK(key > 0);
+    CHECK(other > 0);
+    REQUIRE(got.frames.frames() == expected.frames.frames());
+    CHECK(got.methods == expected.methods);
+    double worst = 0;
+    for (std::size_t i = 0; i < got.frames.rotations().size(); ++i)
+        worst = std::max(worst, static_cast<double>((got.frames.rotations()[i].coeffs() -
+                                                     expected.frames.rotations()[i].coeffs()).cwiseAbs().maxCoeff()));
+    CHECK(worst <= 100 * tolerance);
+}
+
+}  // namespace
+
+TEST_CASE("timing of the key joints only: the same T, the other joints not measured") {
+    for (const auto model : {anima::timing_model::velocity, anima::timing_model::constant_acceleration}) {
+        check_key_joints_only(run<double>(), 60, 20, model);
+        check_key_joints_only(run<double>(), 80, 90, model);
+        check_key_joints_only(run<float>(), 60, 20, model);
+        check_key_joints_only(walk31(), 120, 250, model);
+    }
+    // No key joint at all: T is the shortest, nothing is measured.
+    const auto& r = run<double>();
+    const std::vector<joint_role> none(r.joints(), joint_role::other);
+    anima::timing_params p;
+    p.every_joint = false;
+    const auto t = anima::variable_timing(r, 60, r, 20, none, quatd::Identity(), p);
+    CHECK(t.duration == doctest::Approx(p.min_duration));
+    CHECK(std::isnan(t.joints[3].speed_a));
+    CHECK(t.joints[3].angle == anima::variable_timing(r, 60, r, 20, none, quatd::Identity()).joints[3].angle);
 }
 
 TEST_CASE("make_transition_into: errors as make_transition's; B at another frame time is refused") {
@@ -1478,11 +1556,12 @@ TEST_CASE("joint speeds: the mean |angular velocity| of the steps, for small and
             c.set_rotation(f, 0, quat(Eigen::AngleAxis<T>(heading, Eigen::Matrix<T, 3, 1>::UnitY())));
         }
         anima::detail::rates_scratch<T> scratch;
+        const std::vector<std::size_t> knee_only{1};
         double worst = 0;
         for (std::size_t first = 0; first + 1 < n; first += 7) {
             const std::size_t last = std::min(first + 12, n - 1);
             anima::detail::joint_rates(c, static_cast<std::ptrdiff_t>(first), static_cast<std::ptrdiff_t>(last),
-                                       static_cast<const quat*>(nullptr), scratch);
+                                       static_cast<const quat*>(nullptr), nullptr, scratch);
             double speed = 0, accel = 0;
             Eigen::Matrix<T, 3, 1> previous = Eigen::Matrix<T, 3, 1>::Zero();
             for (std::size_t k = first; k < last; ++k) {
@@ -1499,6 +1578,12 @@ TEST_CASE("joint speeds: the mean |angular velocity| of the steps, for small and
             };
             worst = std::max(worst, error(scratch.mean_speed[1], speed));
             if (steps > 1) worst = std::max(worst, error(scratch.mean_acceleration[1], accel));
+            // The knee alone: its rates first.
+            anima::detail::joint_rates(c, static_cast<std::ptrdiff_t>(first), static_cast<std::ptrdiff_t>(last),
+                                       static_cast<const quat*>(nullptr), &knee_only, scratch);
+            REQUIRE(scratch.mean_speed.size() == 1);
+            worst = std::max(worst, error(scratch.mean_speed[0], speed));
+            if (steps > 1) worst = std::max(worst, error(scratch.mean_acceleration[0], accel));
         }
         CHECK(worst < tolerance);
     };

@@ -51,10 +51,10 @@ enum class arc {
 /// once for pairs blended at many parameters.
 template <class T, int M>
 struct slerp_weight_keys {
-    bool direct = true;  ///< every 1 - d[m] below direct_series_limit: the series in d - 1
-    /// Direct series only: every 1 - d[m] at most direct_series_tiny (0),
-    /// direct_series_small (1) or neither (2), for as few terms as suffice.
-    int direct_tier = 2;
+    bool direct = true;  ///< every 1 - d[m] within slerp_direct_limit: the series in d - 1
+    /// Direct series only: the direct_series_tier of the largest 1 - d[m],
+    /// for as few terms as suffice.
+    int direct_tier = direct_series_tiers<T>;
     T y[M];              ///< d - 1 (direct), else c - 1 with c the cosine of a quarter of the angle
     T inverse[M];        ///< 1 (direct), else 1 / (c (2c^2 - 1)) = sin(phi) / sin(theta)
 };
@@ -63,13 +63,11 @@ struct slerp_weight_keys {
 template <class T, int M>
 ANIMA_FORCE_INLINE slerp_weight_keys<T, M> prepare_slerp_weights(const T (&d)[M]) {
     slerp_weight_keys<T, M> k;
-    bool tiny = true, small = true;  // NaN is neither
+    k.direct_tier = 0;
     for (int m = 0; m < M; ++m) {
-        k.direct = k.direct && T(1) - d[m] <= direct_series_limit<T>();
-        tiny = tiny && T(1) - d[m] <= direct_series_tiny<T>;
-        small = small && T(1) - d[m] <= direct_series_small<T>;
+        k.direct = k.direct && T(1) - d[m] <= slerp_direct_limit<T>();  // NaN is not
+        k.direct_tier = std::max(k.direct_tier, direct_series_tier(T(1) - d[m]));
     }
-    k.direct_tier = tiny ? 0 : small ? 1 : 2;
     for (int m = 0; m < M; ++m) {
         if (k.direct) {
             k.y[m] = d[m] - T(1);
@@ -88,7 +86,7 @@ ANIMA_FORCE_INLINE slerp_weight_keys<T, M> prepare_slerp_weights(const T (&d)[M]
 /// [0, 1], from the pairs' keys (prepare_slerp_weights). The 2M series (t
 /// and 1 - t for each pair) run side by side in the lanes of as few vectors
 /// as hold them (one for up to two pairs of floats, one per pair of
-/// doubles). When every 1 - d[m] is below direct_series_limit the series in
+/// doubles). When every 1 - d[m] is within slerp_direct_limit the series in
 /// d - 1 itself is short enough: no square root or division. Otherwise the
 /// angle is quartered first (two square roots and one division per pair, in
 /// the keys). Exact as the angle tends to 0.
@@ -110,12 +108,7 @@ ANIMA_FORCE_INLINE void slerp_weights(const slerp_weight_keys<T, M>& keys, T t, 
                 for (int i = 0; i < width; ++i) s[v * width + i] = r[i];
             }
         };
-        if (keys.direct_tier == 0)
-            series(std::integral_constant<int, direct_series_terms_within<T>(direct_series_tiny<T>)>{});
-        else if (keys.direct_tier == 1)
-            series(std::integral_constant<int, direct_series_terms_within<T>(direct_series_small<T>)>{});
-        else
-            series(std::integral_constant<int, direct_series_terms<T>()>{});
+        with_direct_series_terms<T>(keys.direct_tier, series);
         for (int m = 0; m < M; ++m) {
             k0[m] = t0 * s[2 * m];
             k1[m] = t * s[2 * m + 1];

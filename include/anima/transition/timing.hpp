@@ -76,6 +76,12 @@ struct timing_params {
     double min_speed = 0.5;         ///< rad/s, floor on the mean angular speed
     double min_acceleration = 2.0;  ///< rad/s^2, floor on the summed angular acceleration
     double speed_window = 0.1;      ///< s: speeds are averaged over this long before the trigger / after B's start
+    /// Measure the angular speeds, accelerations and t_i of every joint, as
+    /// reports show them. false: only of the key joints, which alone decide
+    /// T (the others' speed, acceleration and time are then NaN, their angle
+    /// is still measured): the same T for a fraction of the work, what a
+    /// game loop wants.
+    bool every_joint = true;
 };
 
 template <class T>
@@ -96,6 +102,12 @@ struct timing_result {
     std::size_t limiting_joint = 0;  ///< the key joint with the largest t_i
     std::vector<joint_timing<T>> joints;
 };
+
+/// Whether a joint of this role is a key joint of the timing (root, leg
+/// or foot): one that counts towards the transition's length.
+constexpr bool key_joint_role(joint_role r) {
+    return r == joint_role::root || r == joint_role::leg || r == joint_role::foot;
+}
 
 namespace detail {
 
@@ -123,7 +135,8 @@ struct rates_scratch {
     std::vector<T> q[4];  ///< window frames by component (w, x, y, z): q[c][f * joints + j]
     std::vector<T> w[3];  ///< angular velocity of each step: w[c][k * joints + j]
     std::vector<T> speed, change;  ///< |w| of each step; |w - the same joint's w a step before|
-    std::vector<T> mean_speed, mean_acceleration;  ///< per joint: the results
+    std::vector<T> mean_speed, mean_acceleration;  ///< per measured joint: the results
+    std::vector<std::size_t> picked;  ///< the joints measured, when not all
 };
 
 /// joint_rates' steps that the series does not cover (over 73 degrees, or of
@@ -175,7 +188,8 @@ void mean_rates(rates_scratch<T>& s, std::size_t count, std::size_t nj, std::siz
 /// Mean |angular velocity| and mean |angular acceleration| of every joint's
 /// local rotation over the one-frame steps in [first, last] (clamped to the
 /// clip), the root's rotations first turned by root_turn when it is given;
-/// into s.mean_speed and s.mean_acceleration. Averaging over a short window
+/// into s.mean_speed and s.mean_acceleration. With `picked`, only of the
+/// joints it lists, in increasing order (the results in its order). Averaging over a short window
 /// rather than reading one instant keeps a joint caught at the turning point
 /// of its swing from looking still.
 ///
@@ -190,10 +204,10 @@ void mean_rates(rates_scratch<T>& s, std::size_t count, std::size_t nj, std::siz
 /// or of quaternions not near unit length, take angular_velocity's own path.
 template <class T>
 void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, const Eigen::Quaternion<T>* root_turn,
-                 rates_scratch<T>& s) {
+                 const std::vector<std::size_t>* picked, rates_scratch<T>& s) {
     constexpr int width = 2 * lane_count<T>;  // steps at a time: two vectors
     using chunk = Eigen::Array<T, width, 1>;
-    const std::size_t nj = c.joints();
+    const std::size_t stride = c.joints(), nj = picked ? picked->size() : stride;
     s.mean_speed.assign(nj, T(0));
     s.mean_acceleration.assign(nj, T(0));
     const auto n = static_cast<std::ptrdiff_t>(c.frames());
@@ -212,22 +226,24 @@ void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, co
     // stores them; identities past the end, so that a last partial group of
     // steps is finite.
     for (auto& v : s.q) v.resize(padded + nj);
-    const Eigen::Quaternion<T>* r = c.rotations().data() + static_cast<std::size_t>(first) * nj;
-    for (std::size_t i = 0; i < padded + nj; ++i) {
-        const Eigen::Quaternion<T> q = i < count + nj ? r[i] : Eigen::Quaternion<T>::Identity();
+    const Eigen::Quaternion<T>* r = c.rotations().data() + static_cast<std::size_t>(first) * stride;
+    const auto put = [&](std::size_t i, const Eigen::Quaternion<T>& q) {
         s.q[0][i] = q.w();
         s.q[1][i] = q.x();
         s.q[2][i] = q.y();
         s.q[3][i] = q.z();
-    }
-    if (root_turn)
-        for (std::size_t i = 0; i < count + nj; i += nj) {
-            const Eigen::Quaternion<T> q = *root_turn * r[i];
-            s.q[0][i] = q.w();
-            s.q[1][i] = q.x();
-            s.q[2][i] = q.y();
-            s.q[3][i] = q.z();
-        }
+    };
+    if (!picked)
+        for (std::size_t i = 0; i < count + nj; ++i) put(i, r[i]);
+    else
+        for (std::size_t f = 0, i = 0; f <= steps; ++f)
+            for (std::size_t k = 0; k < nj; ++k, ++i) put(i, r[f * stride + (*picked)[k]]);
+    for (std::size_t i = count + nj; i < padded + nj; ++i) put(i, Eigen::Quaternion<T>::Identity());
+    // The root's rotations turned, where the root is measured.
+    const std::size_t root =
+        picked ? static_cast<std::size_t>(std::find(picked->begin(), picked->end(), 0) - picked->begin()) : 0;
+    if (root_turn && root < nj)
+        for (std::size_t f = 0; f <= steps; ++f) put(f * nj + root, *root_turn * r[f * stride]);
     // First pass: each step's quaternion e = b conj(a), its Newton factor
     // towards unit length, negated when e.w < 0 (the shorter way round), and
     // y = w - 1 of the unit step. e's vector part goes to w, y to speed, the
@@ -257,8 +273,8 @@ void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, co
         to(s.change, i) = g * scale;
     }
     // Second pass, with as many terms as the largest step needs (steps up to
-    // 5 and 20 degrees: 4 and 7 terms in double, 2 and 3 in float; up to 73
-    // degrees direct_series_terms): w = 2 (phi / sin(phi)) v / dt, and |w|.
+    // 5 degrees: 4 terms in double, 2 in float; direct_series_bounds gives
+    // the other tiers): w = 2 (phi / sin(phi)) v / dt, and |w|.
     const T largest = -lowest.minCoeff();
     const auto finish = [&](auto terms) {
         for (std::size_t i = 0; i < padded; i += width) {
@@ -270,13 +286,7 @@ void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, co
             to(s.speed, i) = (wx * wx + wy * wy + wz * wz).sqrt();
         }
     };
-    constexpr T tiny = direct_series_tiny<T>, small = direct_series_small<T>;
-    if (largest <= tiny)
-        finish(std::integral_constant<int, direct_series_terms_within<T>(tiny)>{});
-    else if (largest <= small)
-        finish(std::integral_constant<int, direct_series_terms_within<T>(small)>{});
-    else
-        finish(std::integral_constant<int, direct_series_terms<T>()>{});
+    with_direct_series_terms<T>(direct_series_tier(largest), finish);
     step_rates_outside_series(s, count, nj, dt, off_unit.maxCoeff(), largest);
     mean_rates(s, count, nj, steps, dt);
 }
@@ -301,26 +311,43 @@ void variable_timing_into(const clip<T>& a, std::size_t trigger, const clip<T>& 
     out.limiting_joint = 0;
     const auto window = std::max<std::ptrdiff_t>(
         1, static_cast<std::ptrdiff_t>(std::lround(params.speed_window / static_cast<double>(a.frame_time()))));
+    const std::vector<std::size_t>* picked = nullptr;
+    if (!params.every_joint) {
+        scratch.picked.clear();
+        for (std::size_t j = 0; j < nj; ++j)
+            if (key_joint_role(roles[j])) scratch.picked.push_back(j);
+        picked = &scratch.picked;
+    }
+    // The speeds of joint j (all joints) or of the k-th picked joint, NaN
+    // for a joint not measured.
+    constexpr T unmeasured = std::numeric_limits<T>::quiet_NaN();
+    for (auto& jt : out.joints) jt.speed_a = jt.speed_b = jt.acceleration_a = jt.acceleration_b = unmeasured;
+    const auto joint_of = [&](std::size_t k) { return picked ? (*picked)[k] : k; };
+    const std::size_t measured = picked ? picked->size() : nj;
     joint_rates(a, static_cast<std::ptrdiff_t>(trigger) - window, static_cast<std::ptrdiff_t>(trigger),
-                static_cast<const Eigen::Quaternion<T>*>(nullptr), scratch);
-    for (std::size_t j = 0; j < nj; ++j) {
-        out.joints[j].speed_a = scratch.mean_speed[j];
-        out.joints[j].acceleration_a = scratch.mean_acceleration[j];
+                static_cast<const Eigen::Quaternion<T>*>(nullptr), picked, scratch);
+    for (std::size_t k = 0; k < measured; ++k) {
+        out.joints[joint_of(k)].speed_a = scratch.mean_speed[k];
+        out.joints[joint_of(k)].acceleration_a = scratch.mean_acceleration[k];
     }
     joint_rates(b, static_cast<std::ptrdiff_t>(b_start), static_cast<std::ptrdiff_t>(b_start) + window, &b_root_turn,
-                scratch);
+                picked, scratch);
+    for (std::size_t k = 0; k < measured; ++k) {
+        out.joints[joint_of(k)].speed_b = scratch.mean_speed[k];
+        out.joints[joint_of(k)].acceleration_b = scratch.mean_acceleration[k];
+    }
     T longest = -1;
     for (std::size_t j = 0; j < nj; ++j) {
         auto& jt = out.joints[j];
         jt.joint = j;
         jt.role = roles[j];
-        jt.key = roles[j] == joint_role::root || roles[j] == joint_role::leg || roles[j] == joint_role::foot;
-        jt.speed_b = scratch.mean_speed[j];
-        jt.acceleration_b = scratch.mean_acceleration[j];
+        jt.key = key_joint_role(roles[j]);
         // Only the root is turned.
         const Eigen::Quaternion<T>& b_pose = b.rotation(b_start, j);
         jt.angle = angle_between(a.rotation(trigger, j), j == 0 ? Eigen::Quaternion<T>(b_root_turn * b_pose) : b_pose);
-        if (params.model == timing_model::velocity) {
+        if (!params.every_joint && !jt.key) {
+            jt.time = unmeasured;
+        } else if (params.model == timing_model::velocity) {
             const T w = std::max(T(0.5) * (jt.speed_a + jt.speed_b), static_cast<T>(params.min_speed));
             jt.time = jt.angle / w;
         } else {

@@ -24,6 +24,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace anima::detail {
 
@@ -46,6 +47,17 @@ constexpr T direct_series_limit() {
     return digits <= 24 ? T(0.3) : digits <= 53 ? T(0.2) : T(0.1);
 }
 
+/// Where slerp's weights take the direct series rather than the quartered
+/// angle's (two square roots and a division, then angle_series_terms: 10
+/// terms in double, 5 in float). In double that is the third tier, 1/16:
+/// beyond it the direct series needs 13 to 16 terms, more than the roots
+/// cost, and a pair blended at many parameters pays them only once. In
+/// float direct_series_limit: its 8 terms cost less than the roots.
+template <class T>
+constexpr T slerp_direct_limit() {
+    return std::numeric_limits<T>::digits <= 24 ? direct_series_limit<T>() : T(1) / T(16);
+}
+
 /// Terms of the direct series (tau in [0, 1] or 0) that leave the first
 /// omitted one, at most v_1 ... v_(n+1) bound^(n+1), below epsilon / 8 for
 /// -y <= bound: fewer than direct_series_terms for small angles, the usual
@@ -61,12 +73,40 @@ constexpr int direct_series_terms_within(T bound) {
 }
 
 /// The bounds on -y = 1 - cos(theta) under which the direct series is cut
-/// short: 4-vector angles up to 2.5 and 10.1 degrees (rotations up to 5 and
-/// 20 degrees); 4 and 7 terms in double, 2 and 3 in float.
+/// short, the tiers of direct_series_tier: 4-vector angles up to 2.5, 10.1,
+/// 20.4 and 29.0 degrees (rotations up to 5, 20, 41 and 58 degrees); 4, 7,
+/// 10 and 13 terms in double. Float uses the first two (2 and 3 terms): its
+/// full series has only 8, and more tiers cost more in mispredicted
+/// branches on mixed angles than they save. Beyond the last, up to
+/// direct_series_limit, direct_series_terms.
 template <class T>
-inline constexpr T direct_series_tiny = T(1) / T(1024);
+inline constexpr T direct_series_bounds[] = {T(1) / T(1024), T(1) / T(64), T(1) / T(16), T(1) / T(8)};
 template <class T>
-inline constexpr T direct_series_small = T(1) / T(64);
+inline constexpr int direct_series_tiers = std::numeric_limits<T>::digits <= 24 ? 2 : 4;
+
+/// The first tier whose bound -y is within (NaN: none), or
+/// direct_series_tiers when it is beyond all.
+template <class T>
+int direct_series_tier(T minus_y) {
+    int tier = 0;  // the bounds it is beyond, counted without branches
+    for (int k = 0; k < direct_series_tiers<T>; ++k) tier += !(minus_y <= direct_series_bounds<T>[k]);
+    return tier;
+}
+
+/// f(std::integral_constant<int, n>{}) with n the terms of the direct
+/// series that a tier needs: one instance of the series per tier.
+template <class T, class F>
+ANIMA_FORCE_INLINE void with_direct_series_terms(int tier, F&& f) {
+    constexpr int tiers = direct_series_tiers<T>;
+    const auto within = [&](auto k) {
+        f(std::integral_constant<int, direct_series_terms_within<T>(direct_series_bounds<T>[decltype(k)::value])>{});
+    };
+    if (tier == 0) within(std::integral_constant<int, 0>{});
+    else if (tier == 1) within(std::integral_constant<int, 1>{});
+    else if (tiers > 2 && tier == 2) within(std::integral_constant<int, (tiers > 2 ? 2 : 0)>{});
+    else if (tiers > 3 && tier == 3) within(std::integral_constant<int, (tiers > 3 ? 3 : 0)>{});
+    else f(std::integral_constant<int, direct_series_terms<T>()>{});
+}
 
 /// Number of series terms for tau <= 4, theta <= pi/2 that leaves the
 /// truncation error below the scalar's rounding error.
