@@ -402,16 +402,7 @@ void register_render(CLI::App& app) {
     sub->add_option("OUT", opts->output, "SVG file to write")->required()->type_name("PATH");
     opts->frames_opt = sub->add_option("--frames", opts->frames, "Frames to draw, comma-separated (0-based), e.g. 0,40,80")
                            ->type_name("F,F,...")
-                           ->check(CLI::Validator(
-                               [](std::string& value) -> std::string {
-                                   try {
-                                       (void)parse_frame_list(value);
-                                       return {};
-                                   } catch (const failure& e) {
-                                       return e.what();
-                                   }
-                               },
-                               "", "frame list"));
+                           ->check(parse_check<failure>(parse_frame_list, "", "frame list"));
     auto* count = add_setting(*sub, "--count", opts->count,
                               "Number of evenly spaced frames to draw, first and last included", integer_in(1, 1000))
                       ->type_name("N");

@@ -122,15 +122,11 @@ frames_t load_frames(const std::string& dir, const std::string& hold_out, bool t
 
 /// --hold-out is checked with the options, before any file is read.
 CLI::Validator hold_out_rule() {
-    return CLI::Validator(
-        [](std::string& value) -> std::string {
-            try {
-                (void)anima::parse_frame_split(value);
-                return {};
-            } catch (const anima::invalid_argument& e) {
-                const std::string what = e.what(), prefix = "anima::parse_frame_split: ";
-                return what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
-            }
+    return parse_check<anima::invalid_argument>(
+        anima::parse_frame_split,
+        [](const std::string&, const anima::invalid_argument& e) {
+            const std::string what = e.what(), prefix = "anima::parse_frame_split: ";
+            return what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
         },
         "", "hold-out rule");
 }

@@ -83,12 +83,6 @@ void check_outputs(std::initializer_list<std::pair<std::string_view, const std::
 // Option values
 // ---------------------------------------------------------------------------
 
-namespace {
-
-std::string bound_text(long long v) { return std::to_string(v); }
-
-}  // namespace
-
 CLI::Validator integer_in(long long lo, long long hi) {
     return CLI::Validator(
         [lo, hi](std::string& value) -> std::string {
@@ -110,9 +104,9 @@ CLI::Validator integer_in(long long lo, long long hi) {
                 return "'" + value + "': write it without leading zeros";
             const std::string digits = value.substr(k);
             const auto outside = [&] {
-                const std::string range = hi != LLONG_MAX ? "is outside " + bound_text(lo) + ".." + bound_text(hi)
-                                          : negative      ? "must be " + bound_text(lo) + " or more"
-                                                          : "is larger than " + bound_text(hi);
+                const std::string range = hi != LLONG_MAX ? "is outside " + std::to_string(lo) + ".." + std::to_string(hi)
+                                          : negative      ? "must be " + std::to_string(lo) + " or more"
+                                                          : "is larger than " + std::to_string(hi);
                 return value + " " + range + (negative && lo >= 0 ? " (it must not be negative)" : "");
             };
             unsigned long long magnitude = 0;
@@ -127,7 +121,7 @@ CLI::Validator integer_in(long long lo, long long hi) {
             if (v < lo || v > hi) return outside();
             return {};
         },
-        hi == LLONG_MAX ? "INT >= " + bound_text(lo) : "INT in [" + bound_text(lo) + " - " + bound_text(hi) + "]");
+        hi == LLONG_MAX ? "INT >= " + std::to_string(lo) : "INT in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
 }
 
 CLI::Validator count_up_to(unsigned long long hi) {
@@ -269,16 +263,7 @@ anima::signed_axis parse_signed_axis(std::string_view text) {
 }
 
 CLI::Validator signed_axis_validator() {
-    return CLI::Validator(
-        [](std::string& value) -> std::string {
-            try {
-                (void)parse_signed_axis(value);
-                return {};
-            } catch (const failure& e) {
-                return e.what();
-            }
-        },
-        "{+X,-X,+Y,-Y,+Z,-Z}", "signed axis");
+    return parse_check<failure>(parse_signed_axis, "{+X,-X,+Y,-Y,+Z,-Z}", "signed axis");
 }
 
 CLI::Option* add_up_option(CLI::App& sub, std::string& up, const std::string& help, const std::string& name) {
@@ -296,14 +281,10 @@ anima::signed_axis up_axis_or_guess(const std::string& given, const skeleton_t& 
 }
 
 CLI::Validator euler_order_validator() {
-    return CLI::Validator(
-        [](std::string& value) -> std::string {
-            try {
-                (void)anima::parse_euler_order(value);
-                return {};
-            } catch (const anima::error&) {
-                return "'" + value + "' is not a rotation order: use XYZ, XZY, YXZ, YZX, ZXY or ZYX";
-            }
+    return parse_check<anima::error>(
+        anima::parse_euler_order,
+        [](const std::string& value, const anima::error&) {
+            return "'" + value + "' is not a rotation order: use XYZ, XZY, YXZ, YZX, ZXY or ZYX";
         },
         "{XYZ,XZY,YXZ,YZX,ZXY,ZYX}", "euler order");
 }

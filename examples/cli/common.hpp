@@ -98,6 +98,30 @@ CLI::Validator positive_number();
 /// A finite number >= 0.
 CLI::Validator non_negative_number();
 
+/// A validator that parses the option's text with `parse` and reports the
+/// `Error` it throws, as `message(text, error)` says.
+template <class Error, class Parse, class Message>
+CLI::Validator parse_check(Parse parse, Message message, std::string description, std::string name) {
+    return CLI::Validator(
+        [parse, message](std::string& value) -> std::string {
+            try {
+                (void)parse(value);
+                return {};
+            } catch (const Error& e) {
+                return message(value, e);
+            }
+        },
+        std::move(description), std::move(name));
+}
+
+/// parse_check whose message is the error's own.
+template <class Error, class Parse>
+CLI::Validator parse_check(Parse parse, std::string description, std::string name) {
+    return parse_check<Error>(
+        parse, [](const std::string&, const Error& e) { return std::string(e.what()); }, std::move(description),
+        std::move(name));
+}
+
 /// A subcommand of `app` whose options fill an `Options`, kept alive by the
 /// subcommand's callback, which calls run(options) after parsing.
 template <class Options, class Run>
