@@ -254,7 +254,7 @@ json effector_report(const anima::clip_ik_result<double>& solved, const std::vec
 void run_ik(const ik_options& o) {
     check_outputs({{"--output", &o.output}, {"--save-model", &o.model_out}, {"--view", &o.view}});
     const anima::stopwatch timer;
-    clip_t c = load_clip(o.input);
+    const clip_t c = load_clip(o.input);
     const auto& sk = c.skeleton();
     const double scale = body_scale(c);
     solver_setup s{anima::kinematic_tree<double>(sk), {}, nullptr};
@@ -271,11 +271,9 @@ void run_ik(const ik_options& o) {
     const bool smooth = offset_mode || file_mode;
     std::vector<std::pair<std::string, vec3>> wanted;  // every effector named, once
     for (const auto& entry : per_frame)
-        for (const auto& w : entry.second) {
-            bool seen = false;
-            for (const auto& x : wanted) seen = seen || x.first == w.first;
-            if (!seen) wanted.push_back(w);
-        }
+        for (const auto& w : entry.second)
+            if (std::none_of(wanted.begin(), wanted.end(), [&](const auto& x) { return x.first == w.first; }))
+                wanted.push_back(w);
     for (const auto& w : wanted)
         if (!sk.find(w.first))
             throw failure("no joint named '" + w.first + "' in '" + o.input + "'" + sk.did_you_mean(w.first));
@@ -327,34 +325,27 @@ void run_ik(const ik_options& o) {
         page.markers = frame_markers(1, frames, "target", "targets of " + join(names));
         page_written = write_view_page(o.view, page);
     }
-    c = solved.edited;
 
     const json effectors = effector_report(solved, goal_names, clusters, s.params.tolerance, smooth);
-    const int iterations = solved.iterations;
-    const auto converged_frames = solved.converged_frames;
-    const double worst = solved.largest_error;
     const double seconds = timer.elapsed();
-    if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(c));
+    if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(solved.edited));
     json out = {{"input", o.input},
                 {"solver", o.solver},
                 {"frames", json::array({first, last})},
                 {"effectors", effectors},
-                {"converged_frames", converged_frames},
-                {"largest_error", worst},
+                {"converged_frames", solved.converged_frames},
+                {"largest_error", solved.largest_error},
                 {"tolerance", s.params.tolerance},
-                {"iterations", iterations},
+                {"iterations", solved.iterations},
                 {"seconds", seconds},
                 {"max_joint_step_deg_before", solved.max_joint_step_before * 180 / anima::pi<double>},
                 {"max_joint_step_deg_after", solved.max_joint_step_after * 180 / anima::pi<double>}};
     if (!o.output.empty()) out["output"] = o.output;
     if (!o.view.empty()) out["view"] = o.view;
-    if (o.json) {
-        print_json(out);
-        return;
-    }
+    if (o.json) return print_json(out);
     std::cout << "solved " << per_frame.size() << " frame" << (per_frame.size() == 1 ? "" : "s") << " with " << o.solver
-              << ": " << converged_frames << " converged, largest error " << format_number(worst, 3) << " (tolerance "
-              << format_number(s.params.tolerance, 3) << "), " << iterations << " iterations, "
+              << ": " << solved.converged_frames << " converged, largest error " << format_number(solved.largest_error, 3)
+              << " (tolerance " << format_number(s.params.tolerance, 3) << "), " << solved.iterations << " iterations, "
               << format_number(seconds, 3) << " s\n";
     if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
 }

@@ -157,10 +157,7 @@ void run_playback(const playback_options& o) {
         }
     }
 
-    if (o.json) {
-        print_json(out);
-        return;
-    }
+    if (o.json) return print_json(out);
     const std::string how = o.video_texture ? "video-texture playback (L2 jumps)"
                                             : mode + " symmetric playback (" + describe(o.symmetry, params) + ")";
     std::cout << how << " of " << file_name(o.input) << " frames " << m.first << ".." << last << ", seed " << o.seed

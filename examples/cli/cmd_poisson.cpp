@@ -186,10 +186,7 @@ void run_poisson(const poisson_options& o) {
         std::cerr << "anima: warning: " << o.solver << " stopped at relative residual "
                   << format_number(r.relative_residual, 3) << ", above the tolerance " << format_number(o.tolerance)
                   << "\n";
-    if (o.json) {
-        print_json(out);
-        return;
-    }
+    if (o.json) return print_json(out);
     std::cout << o.solver << " on a " << size.width << " x " << size.height << " grid ("
               << size.width * size.height << " unknowns, " << anima::to_string(sides) << "): ";
     if (o.solver == "dst") std::cout << "direct";

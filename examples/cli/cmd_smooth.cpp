@@ -83,10 +83,7 @@ void run_smooth(const smooth_options& o) {
         out["output"] = o.output;
     }
     warn_unconverged(result.stats);
-    if (o.json) {
-        print_json(out);
-        return;
-    }
+    if (o.json) return print_json(out);
     std::cout << "smoothed " << sorted.size() << " seam" << (sorted.size() == 1 ? "" : "s") << " of "
               << file_name(o.input) << " (" << c.frames() << " frames, " << layout.size() << " DOFs), "
               << anima::to_string(prm.form) << " form, " << anima::to_string(prm.solver) << ": "

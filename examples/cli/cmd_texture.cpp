@@ -24,6 +24,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -81,6 +82,7 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
             anima::to_dof_matrix(inputs[i], layout);
     const Eigen::MatrixXd b = anima::to_dof_matrix(t.motion, layout);
     plot_image img;
+    std::vector<double> lo, hi;  // each shown DOF's range in the input
     // DOFs that barely move in the input (uncaptured fingers: rounding
     // noise) would show noise stretched to full contrast: left out.
     for (std::size_t c = 0; c < layout.size(); ++c) {
@@ -89,7 +91,10 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
         const double range = a.col(col).maxCoeff() - a.col(col).minCoeff();
         const bool ground = d.joint == 0 && d.type == anima::dof::kind::translation && d.component != static_cast<int>(up.axis);
         const double least = d.type == anima::dof::kind::rotation ? anima::radians(2.0) : 1e-3 * anima::figure_height(input.skeleton(), up);
-        if (!ground && range > least) img.shown.push_back(col);
+        if (ground || !(range > least)) continue;
+        img.shown.push_back(col);
+        lo.push_back(a.col(col).minCoeff());
+        hi.push_back(a.col(col).maxCoeff());
     }
     const auto& shown = img.shown;
     if (shown.empty()) throw failure("--plot: no DOF of the input moves by 2 degrees or more");
@@ -110,11 +115,6 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
             for (int x = std::max(x0, 0); x <= std::min(x1, width - 1); ++x)
                 std::copy(rgb, rgb + 3, px.begin() + (static_cast<std::ptrdiff_t>(y) * width + x) * 3);
     };
-    std::vector<double> lo(shown.size()), hi(shown.size());
-    for (std::size_t i = 0; i < shown.size(); ++i) {
-        lo[i] = a.col(shown[i]).minCoeff();
-        hi[i] = a.col(shown[i]).maxCoeff();
-    }
     const auto draw = [&](const Eigen::MatrixXd& m, std::size_t frames, int pixels, int top) {
         unsigned char rgb[3];
         for (int x = 0; x < pixels; ++x) {
@@ -450,17 +450,14 @@ std::string describe_inputs(const texture_options& o, const std::vector<std::siz
 /// the order whose loop costs least; the costs of that order and the given one.
 std::pair<double, double> reorder_clips(texture_options& o, std::vector<clip_t>& clips, std::vector<std::size_t>& firsts) {
     const auto best = anima::least_cost_clip_order(clips, texture_params(o, clips).texton);
-    std::vector<clip_t> ordered_clips;
-    std::vector<std::string> names;
-    std::vector<std::size_t> ordered_firsts;
-    for (const std::size_t i : best.order) {
-        ordered_clips.push_back(std::move(clips[i]));
-        names.push_back(o.inputs[i]);
-        ordered_firsts.push_back(firsts[i]);
-    }
-    clips = std::move(ordered_clips);
-    o.inputs = std::move(names);
-    firsts = std::move(ordered_firsts);
+    const auto reorder = [&](auto& items) {
+        std::remove_reference_t<decltype(items)> ordered;
+        for (const std::size_t i : best.order) ordered.push_back(std::move(items[i]));
+        items = std::move(ordered);
+    };
+    reorder(clips);
+    reorder(o.inputs);
+    reorder(firsts);
     return {best.cost, best.given_cost};
 }
 

@@ -219,10 +219,7 @@ void run_transition(const transition_options& o) {
         out["view"] = o.view;
     }
 
-    if (o.json) {
-        print_json(out);
-        return;
-    }
+    if (o.json) return print_json(out);
     print_transition(o, out, page_written);
 }
 
