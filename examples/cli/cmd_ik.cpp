@@ -12,6 +12,7 @@
 #include "view_page.hpp"
 
 #include <anima/core/stopwatch.hpp>
+#include <anima/core/text.hpp>
 #include <anima/ik.hpp>
 
 #include <CLI/CLI.hpp>
@@ -72,7 +73,7 @@ bool parse_frame(const std::string& text, std::size_t& frame) {
 /// mark); every error names the file and line, including a frame outside
 /// the clip and an effector the skeleton does not have.
 frame_targets read_targets(const std::string& path, const clip_t& c) {
-    const std::vector<std::string> lines = text_lines(read_text_file(path));
+    const std::vector<std::string> lines = anima::text_lines(read_text_file(path));
     frame_targets targets;
     for (std::size_t number = 1; number <= lines.size(); ++number) {
         std::string line = lines[number - 1];

@@ -14,12 +14,9 @@
 #include <Eigen/SparseCore>
 
 #include <cerrno>
-#include <cstdio>
 #include <cstdlib>
 #include <iostream>
-#include <sstream>
 #include <string>
-#include <vector>
 
 namespace anima_cli {
 namespace {
@@ -54,56 +51,6 @@ grid_size parse_grid(const std::string& text) {
     return g;
 }
 
-// H lines of W numbers separated by commas (or spaces); blank lines are skipped.
-Eigen::MatrixXd read_csv(const std::string& path, const grid_size& g) {
-    const std::vector<std::string> lines = text_lines(read_text_file(path));
-    Eigen::MatrixXd f(g.height, g.width);
-    Eigen::Index row = 0;
-    std::size_t line_number = 0;
-    for (std::string line : lines) {
-        ++line_number;
-        for (char& c : line)
-            if (c == ',' || c == ';' || c == '\t' || c == '\r') c = ' ';
-        if (line.find_first_not_of(' ') == std::string::npos) continue;
-        if (row == g.height)
-            throw anima::parse_error(path, line_number, "more than the " + std::to_string(g.height) + " rows of the grid");
-        std::istringstream fields(line);
-        std::string field;
-        Eigen::Index col = 0;
-        while (fields >> field) {
-            if (col == g.width)
-                throw anima::parse_error(path, line_number, "more than " + std::to_string(g.width) + " numbers");
-            char* end = nullptr;
-            const double v = std::strtod(field.c_str(), &end);
-            if (end == field.c_str() || *end != '\0')
-                throw anima::parse_error(path, line_number, "'" + field + "' is not a number");
-            f(row, col++) = v;  // NaN and infinities are left for the solver to reject
-        }
-        if (col != g.width)
-            throw anima::parse_error(path, line_number,
-                                     std::to_string(col) + " numbers, expected " + std::to_string(g.width));
-        ++row;
-    }
-    if (row != g.height)
-        throw anima::parse_error(path, line_number,
-                                 "the file has " + std::to_string(row) + " rows, the grid " + std::to_string(g.height));
-    return f;
-}
-
-std::string to_csv(const Eigen::MatrixXd& u) {
-    std::string out;
-    char buf[32];
-    for (Eigen::Index i = 0; i < u.rows(); ++i) {
-        for (Eigen::Index j = 0; j < u.cols(); ++j) {
-            std::snprintf(buf, sizeof buf, "%.17g", u(i, j));
-            if (j) out += ',';
-            out += buf;
-        }
-        out += '\n';
-    }
-    return out;
-}
-
 void run_poisson(const poisson_options& o) {
     check_outputs({{"--out", &o.output}});
     const grid_size size = parse_grid(o.grid);
@@ -122,7 +69,7 @@ void run_poisson(const poisson_options& o) {
         for (Eigen::Index j = 0; j < size.width; ++j)
             for (Eigen::Index i = 0; i < size.height; ++i) f(i, j) = 2 * rng.uniform() - 1;
     } else {
-        f = read_csv(o.rhs, size);
+        f = anima::parse_grid_csv<double>(read_text_file(o.rhs), o.rhs, size.height, size.width);
     }
     const auto problem = anima::make_poisson_problem(anima::make_poisson_grid<double>(size.height, size.width, sides), f);
 
@@ -179,7 +126,7 @@ void run_poisson(const poisson_options& o) {
     if (o.neumann) out["removed_mean"] = r.removed_mean;
     if (!r.residual_history.empty()) out["residual_history"] = r.residual_history;
     if (!o.output.empty()) {
-        write_text_file(o.output, to_csv(r.u));
+        write_text_file(o.output, anima::format_grid_csv(r.u));
         out["output"] = o.output;
     }
     if (!r.converged)

@@ -43,18 +43,6 @@ document_t load_bvh_document(const std::string& path) {
     return anima::parse_bvh_document<double>(read_text_file(path), path);
 }
 
-std::vector<std::string> text_lines(std::string_view text) {
-    if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
-    std::vector<std::string> lines;
-    std::size_t pos = 0;
-    while (pos < text.size()) {
-        const std::size_t end = std::min(text.find_first_of("\r\n", pos), text.size());
-        lines.emplace_back(text.substr(pos, end - pos));
-        pos = end + (text.substr(end, 2) == "\r\n" ? 2 : 1);
-    }
-    return lines;
-}
-
 
 clip_t load_clip(const std::string& path) { return anima::to_clip(load_bvh_document(path)); }
 

@@ -52,10 +52,6 @@ clip_t load_clip(const std::string& path);
 /// cannot be read.
 std::string read_text_file(const std::string& path);
 
-/// The lines of a text file, without their line ends (LF, CRLF or a lone CR,
-/// as old Mac exporters write) and without a leading UTF-8 byte order mark.
-std::vector<std::string> text_lines(std::string_view text);
-
 /// Writes text to a file, replacing it atomically (anima::write_file_atomically:
 /// a temporary next to it, renamed into place when complete, so a failed
 /// write leaves an existing file as it was). Throws failure naming the file

@@ -3,8 +3,10 @@
 
 #include <cctype>
 #include <cstddef>
+#include <algorithm>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace anima {
 
@@ -21,6 +23,20 @@ inline bool ascii_equal_ignoring_case(std::string_view a, std::string_view b) {
     for (std::size_t k = 0; k < a.size(); ++k)
         if (std::tolower(static_cast<unsigned char>(a[k])) != std::tolower(static_cast<unsigned char>(b[k]))) return false;
     return true;
+}
+
+/// The lines of a text, without their line ends (LF, CRLF or a lone CR, as
+/// old Mac exporters write) and without a leading UTF-8 byte order mark.
+inline std::vector<std::string> text_lines(std::string_view text) {
+    if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+    std::vector<std::string> lines;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        const std::size_t end = std::min(text.find_first_of("\r\n", pos), text.size());
+        lines.emplace_back(text.substr(pos, end - pos));
+        pos = end + (text.substr(end, 2) == "\r\n" ? 2 : 1);
+    }
+    return lines;
 }
 
 }  // namespace anima
