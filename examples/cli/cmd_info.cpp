@@ -9,8 +9,6 @@
 #include <cstddef>
 #include <iostream>
 #include <string>
-#include <utility>
-#include <vector>
 
 namespace anima_cli {
 namespace {
@@ -19,24 +17,6 @@ struct info_options {
     std::string input;
     bool json = false;
 };
-
-/// Joint indices in depth-first order (children in index order) with their
-/// depth; iterative so that a very deep skeleton cannot overflow the stack.
-std::vector<std::pair<std::size_t, std::size_t>> depth_first(const skeleton_t& sk) {
-    std::vector<std::vector<std::size_t>> children(sk.size());
-    for (std::size_t j = 0; j < sk.size(); ++j)
-        if (sk[j].parent >= 0) children[static_cast<std::size_t>(sk[j].parent)].push_back(j);
-    std::vector<std::pair<std::size_t, std::size_t>> out, stack;
-    for (std::size_t r = sk.size(); r-- > 0;)
-        if (sk[r].parent < 0) stack.emplace_back(r, 0);
-    while (!stack.empty()) {
-        const auto [j, depth] = stack.back();
-        stack.pop_back();
-        out.emplace_back(j, depth);
-        for (std::size_t k = children[j].size(); k-- > 0;) stack.emplace_back(children[j][k], depth + 1);
-    }
-    return out;
-}
 
 json vector_json(const vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
@@ -85,7 +65,7 @@ void run_info(const info_options& o) {
     // Indentation stops at max_indent levels (deeper joints say their depth),
     // so the text of a deep hierarchy stays linear in its size.
     constexpr std::size_t max_indent = 32;
-    for (const auto& [j, depth] : depth_first(sk)) {
+    for (const auto& [j, depth] : anima::depth_first_order(sk)) {
         const std::string indent(2 * (std::min(depth, max_indent) + 1), ' ');
         std::cout << indent;
         if (depth > max_indent) std::cout << "(depth " << depth << ") ";

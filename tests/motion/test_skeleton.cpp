@@ -27,6 +27,7 @@
 #include <optional>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -1099,6 +1100,25 @@ TEST_CASE_TEMPLATE("check_same_hierarchy: names, parents and position channels, 
     e = invalid_argument_message([&] { anima::check_same_hierarchy(walk, prefix); });
     CHECK(contains(e, std::to_string(walk.size()) + " vs " + std::to_string(walk.size() - 1)));
     CHECK(contains(e, walk[walk.size() - 1].name));
+}
+
+TEST_CASE("depth_first_order visits each joint once, children in index order, with its depth") {
+    anima::skeleton<double> sk;
+    sk.add_joint("a", -1, v3d::Zero());  // 0
+    sk.add_joint("b", 0, v3d::Zero());   // 1
+    sk.add_joint("c", -1, v3d::Zero());  // 2: a second root
+    sk.add_joint("d", 0, v3d::Zero());   // 3
+    sk.add_joint("e", 1, v3d::Zero());   // 4
+    sk.add_joint("f", 2, v3d::Zero());   // 5
+    using order = std::vector<std::pair<std::size_t, std::size_t>>;
+    CHECK(anima::depth_first_order(sk) == order{{0, 0}, {1, 1}, {4, 2}, {3, 1}, {2, 0}, {5, 1}});
+    CHECK(anima::depth_first_order(anima::skeleton<double>()).empty());
+    // A chain of 100000 joints: no recursion, so no stack overflow.
+    anima::skeleton<double> chain;
+    for (int j = 0; j < 100000; ++j) chain.add_joint("j" + std::to_string(j), j - 1, v3d::Zero());
+    const auto deep = anima::depth_first_order(chain);
+    REQUIRE(deep.size() == 100000);
+    CHECK(deep.back() == std::pair<std::size_t, std::size_t>{99999, 99999});
 }
 
 }  // namespace

@@ -272,6 +272,26 @@ private:
     std::unordered_map<std::string, std::size_t> by_name_;  // joint name -> index
 };
 
+/// Every joint once, depth-first from each root in index order (children in
+/// index order, as BVH lists them), with its depth (0 for a root). Iterative,
+/// so a very deep skeleton cannot overflow the stack.
+template <class T>
+std::vector<std::pair<std::size_t, std::size_t>> depth_first_order(const skeleton<T>& sk) {
+    std::vector<std::vector<std::size_t>> children(sk.size());
+    for (std::size_t j = 0; j < sk.size(); ++j)
+        if (sk[j].parent >= 0) children[static_cast<std::size_t>(sk[j].parent)].push_back(j);
+    std::vector<std::pair<std::size_t, std::size_t>> out, stack;
+    for (std::size_t r = sk.size(); r-- > 0;)
+        if (sk[r].parent < 0) stack.emplace_back(r, 0);
+    while (!stack.empty()) {
+        const auto [j, depth] = stack.back();
+        stack.pop_back();
+        out.emplace_back(j, depth);
+        for (std::size_t k = children[j].size(); k-- > 0;) stack.emplace_back(children[j][k], depth + 1);
+    }
+    return out;
+}
+
 /// Throws anima::invalid_argument naming the first joint whose name, parent
 /// or position channels differ between the two skeletons. Offsets (bone
 /// lengths) and rotation channel orders may differ.
