@@ -6,6 +6,8 @@
 #include "common.hpp"
 #include "svg_chart.hpp"
 
+#include <anima/image/block_mean.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -120,30 +122,19 @@ matrix_image write_distance_matrix(const std::string& path, const std::string& i
 
     matrix_image out;
     out.size = requested_size > 0 ? requested_size : static_cast<int>(std::min<std::size_t>(n, default_matrix_pixels));
-    const auto s = static_cast<std::size_t>(out.size);
-    // Pixel p covers frames [p n / s, (p + 1) n / s), at least one frame:
-    // block means when shrinking, repeated frames when enlarging.
-    std::vector<std::size_t> begin(s), end(s);
-    for (std::size_t p = 0; p < s; ++p) {
-        begin[p] = p * n / s;
-        end[p] = std::max(begin[p] + 1, (p + 1) * n / s);
-    }
-    std::vector<double> value(s * s);
-    for (std::size_t py = 0; py < s; ++py)
-        for (std::size_t px = 0; px < s; ++px) {
-            const auto rows = static_cast<Eigen::Index>(end[py] - begin[py]), cols = static_cast<Eigen::Index>(end[px] - begin[px]);
-            value[py * s + px] =
-                d.block(static_cast<Eigen::Index>(begin[py]), static_cast<Eigen::Index>(begin[px]), rows, cols).mean();
-        }
+    // Block means of frames when shrinking, repeated frames when enlarging;
+    // row-major, as the pixels are written.
+    using row_major = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const row_major value = anima::block_mean_resample(d, out.size, out.size);
     // Black = identical frames, white = the 99th percentile of the pixels and
     // above: a few extreme frames should not leave everything else black.
-    std::vector<double> sorted = value;
+    std::vector<double> sorted(value.data(), value.data() + value.size());
     const auto q = sorted.begin() + static_cast<std::ptrdiff_t>((sorted.size() - 1) * 99 / 100);
     std::nth_element(sorted.begin(), q, sorted.end());
     out.white = *q;
-    std::vector<unsigned char> pixels(value.size());
-    for (std::size_t k = 0; k < value.size(); ++k) {
-        const double g = out.white > 0 ? std::min(1.0, value[k] / out.white) : 0.0;
+    std::vector<unsigned char> pixels(sorted.size());
+    for (std::size_t k = 0; k < pixels.size(); ++k) {
+        const double g = out.white > 0 ? std::min(1.0, value.data()[k] / out.white) : 0.0;
         pixels[k] = static_cast<unsigned char>(std::lround(255 * g));
     }
     if (is_svg_path(path))

@@ -1,10 +1,11 @@
 // The geometric building blocks of SADM: PGM/PPM and .pts files, bilinear
-// sampling, PCA against Eigen's dense SVD, Procrustes alignment and its
+// sampling, block-mean resampling, PCA against Eigen's dense SVD, Procrustes alignment and its
 // invariances, Delaunay triangulation against brute-force properties, and
 // the piecewise-affine warp.
 #include "sadm_test_support.hpp"
 
 #include <anima/image/bilinear.hpp>
+#include <anima/image/block_mean.hpp>
 #include <anima/image/pnm.hpp>
 #include <anima/sadm/delaunay.hpp>
 #include <anima/sadm/landmarks.hpp>
@@ -80,6 +81,28 @@ TEST_CASE_TEMPLATE("bilinear sampling is exact on affine images and clamps at th
     CHECK(anima::sample_bilinear(img, T(-3), T(-2)) == img(0, 0));
     CHECK(anima::sample_bilinear(img, T(100), T(1)) == img(1, 6));
     CHECK(anima::sample_bilinear(img, std::numeric_limits<T>::quiet_NaN(), T(0)) == img(0, 0));
+}
+
+TEST_CASE_TEMPLATE("block_mean_resample averages blocks when shrinking and repeats values when enlarging", T, float,
+                   double) {
+    matrix<T> m(4, 6);
+    for (Eigen::Index y = 0; y < 4; ++y)
+        for (Eigen::Index x = 0; x < 6; ++x) m(y, x) = static_cast<T>(10 * y + x);
+    const matrix<T> half = anima::block_mean_resample(m, 2, 3);  // 2 x 2 blocks
+    CHECK(half(0, 0) == doctest::Approx((0 + 1 + 10 + 11) / 4.0));
+    CHECK(half(1, 2) == doctest::Approx((24 + 25 + 34 + 35) / 4.0));
+    // 6 columns to 4: blocks of 1, 2, 1 and 2 columns ([p 6 / 4, (p + 1) 6 / 4)).
+    const matrix<T> uneven = anima::block_mean_resample(m, 4, 4);
+    CHECK(uneven(0, 0) == m(0, 0));
+    CHECK(uneven(0, 1) == doctest::Approx((1 + 2) / 2.0));
+    CHECK(uneven(3, 3) == doctest::Approx((34 + 35) / 2.0));
+    const matrix<T> twice = anima::block_mean_resample(m, 8, 12);
+    for (Eigen::Index y = 0; y < 8; ++y)
+        for (Eigen::Index x = 0; x < 12; ++x) CHECK(twice(y, x) == m(y / 2, x / 2));
+    CHECK(anima::block_mean_resample(m, 4, 6) == m);
+    CHECK(anima::block_mean_resample(m, 1, 1)(0, 0) == doctest::Approx(m.mean()));
+    CHECK_THROWS_AS(anima::block_mean_resample(m, 0, 3), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::block_mean_resample(matrix<T>(0, 0), 2, 2), anima::invalid_argument);
 }
 
 // ---------------------------------------------------------------------------
