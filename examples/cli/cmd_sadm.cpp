@@ -61,9 +61,8 @@ grey load_grey(const std::string& path) {
                       std::to_string(anima::max_raster_pixels) + " an image may have here");
     unsigned char* px = stbi_load(path.c_str(), &w, &h, &channels, 1);
     if (!px) throw failure("cannot read '" + path + "': " + stbi_failure_reason());
-    grey g(h, w);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) g(y, x) = px[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+    using bytes = Eigen::Matrix<unsigned char, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const grey g = Eigen::Map<const bytes>(px, h, w).cast<double>();
     stbi_image_free(px);
     return g;
 #else
@@ -216,10 +215,8 @@ void write_figure(const std::string& path, const anima::sadm_model<double>& mode
         const Eigen::Index y0 = std::max<Eigen::Index>(0, static_cast<Eigen::Index>(lm.col(1).minCoeff()) - 8);
         const Eigen::Index x1 = std::min<Eigen::Index>(img.cols(), static_cast<Eigen::Index>(lm.col(0).maxCoeff()) + 9);
         const Eigen::Index y1 = std::min<Eigen::Index>(img.rows(), static_cast<Eigen::Index>(lm.col(1).maxCoeff()) + 9);
-        const grey a = model.synthesize(lm, img), b = model.synthesize(noisy, img);
-        rows[0].push_back(img.block(y0, x0, y1 - y0, x1 - x0));
-        rows[1].push_back(a.block(y0, x0, y1 - y0, x1 - x0));
-        rows[2].push_back(b.block(y0, x0, y1 - y0, x1 - x0));
+        const grey shown[] = {img, model.synthesize(lm, img), model.synthesize(noisy, img)};
+        for (std::size_t r = 0; r < 3; ++r) rows[r].push_back(shown[r].block(y0, x0, y1 - y0, x1 - x0));
         w = std::max(w, x1 - x0);
         h = std::max(h, y1 - y0);
     }
