@@ -313,18 +313,9 @@ void run_render(const render_options& o) {
     projection projected = project_frames(clip, frames, basis);
     const std::vector<panel>& panels = projected.panels;
     double xmin = projected.box.xmin, xmax = projected.box.xmax, ymin = projected.box.ymin, ymax = projected.box.ymax;
-    anima::global_pose<double> pose;
-
     // The ground: the lowest point the figure reaches anywhere in the clip.
-    double ground = ymin;
-    if (basis.vertical) {
-        for (std::size_t f = 0; f < clip.frames(); ++f) {
-            anima::forward_kinematics(clip, f, pose);
-            for (const vec3& p : pose.positions) ground = std::min(ground, p.dot(basis.up));
-            for (const vec3& p : anima::end_site_positions(sk, pose)) ground = std::min(ground, p.dot(basis.up));
-        }
-        ymin = ground;
-    }
+    if (basis.vertical) ymin = std::min(ymin, anima::lowest_along(clip, basis.up));
+    const double ground = ymin;
     double xrange = xmax - xmin, yrange = ymax - ymin;
     const double extent = std::max({xrange, yrange, 1e-9});
     xrange = std::max(xrange, extent * 0.05);

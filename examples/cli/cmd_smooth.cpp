@@ -45,14 +45,8 @@ void run_smooth(const smooth_options& o) {
     const auto layout = anima::make_dof_layout(c);
     const Eigen::MatrixXd before = anima::to_dof_matrix(c, layout);
     const Eigen::MatrixXd after = anima::to_dof_matrix(result.motion, layout);
-    double drift_rot = 0, drift_tr = 0;
-    for (Eigen::Index d = 0; d < before.cols(); ++d) {
-        const double change = (after.col(d) - before.col(d)).cwiseAbs().maxCoeff();
-        if (layout.dofs[static_cast<std::size_t>(d)].type == anima::dof::kind::rotation)
-            drift_rot = std::max(drift_rot, change * 180 / anima::pi<double>);
-        else
-            drift_tr = std::max(drift_tr, change);
-    }
+    const auto change = anima::largest_dof_change(before, after, layout);
+    const double drift_rot = change.rotation * 180 / anima::pi<double>, drift_tr = change.translation;
 
     json seams = json::array();
     std::vector<std::size_t> sorted = o.seams;

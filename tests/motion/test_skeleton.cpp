@@ -1102,6 +1102,43 @@ TEST_CASE_TEMPLATE("check_same_hierarchy: names, parents and position channels, 
     CHECK(contains(e, walk[walk.size() - 1].name));
 }
 
+TEST_CASE("largest_dof_change: the largest change of a rotation DOF and of a translation DOF") {
+    const auto& c = walk_clip<double>();
+    const auto layout = anima::make_dof_layout(c);
+    const Eigen::MatrixXd before = anima::to_dof_matrix(c, layout);
+    Eigen::MatrixXd after = before;
+    after(10, 1) += 0.5;    // Hips.ty
+    after(20, 2) -= 2.0;    // Hips.tz
+    after(5, 40) -= 0.25;   // a rotation
+    after(300, 95) += 0.1;  // RThumb.rz
+    const auto change = anima::largest_dof_change(before, after, layout);
+    CHECK(change.rotation == doctest::Approx(0.25));
+    CHECK(change.translation == doctest::Approx(2.0));
+    const auto none = anima::largest_dof_change(before, before, layout);
+    CHECK(none.rotation == 0);
+    CHECK(none.translation == 0);
+    CHECK_THROWS_AS(anima::largest_dof_change(before, Eigen::MatrixXd(after.leftCols(95)), layout), anima::invalid_argument);
+}
+
+TEST_CASE("lowest_along: the lowest joint or End Site over every frame") {
+    const auto& c = walk_clip<double>();
+    const v3d up(0, 1, 0);
+    double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        const auto pose = anima::forward_kinematics(c, f);
+        auto points = anima::end_site_positions(c.skeleton(), pose);
+        points.insert(points.end(), pose.positions.begin(), pose.positions.end());
+        for (const auto& p : points) {
+            lowest = std::min(lowest, p.y());
+            highest = std::max(highest, p.y());
+        }
+    }
+    CHECK(anima::lowest_along(c, up) == lowest);
+    CHECK(anima::lowest_along(c, v3d(-up)) == -highest);
+    CHECK(anima::lowest_along(anima::clip<double>(c.skeleton(), 0, c.frame_time()), up) ==
+          std::numeric_limits<double>::infinity());
+}
+
 TEST_CASE("depth_first_order visits each joint once, children in index order, with its depth") {
     anima::skeleton<double> sk;
     sk.add_joint("a", -1, v3d::Zero());  // 0

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -123,6 +124,34 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> to_dof_matrix(const clip<T>& c,
         }
     }
     return m;
+}
+
+/// The largest change of any rotation DOF (radians) and of any translation
+/// DOF (the clip's units) between two frames x DOF matrices.
+template <class T>
+struct dof_change {
+    T rotation = T(0), translation = T(0);
+};
+
+/// The largest |after - before| over the frames, for the rotation and the
+/// translation DOFs of `layout`. Throws anima::invalid_argument when the
+/// matrices' sizes differ or do not match the layout.
+template <class A, class B>
+dof_change<typename A::Scalar> largest_dof_change(const Eigen::MatrixBase<A>& before, const Eigen::MatrixBase<B>& after,
+                                                  const dof_layout<typename A::Scalar>& layout) {
+    if (before.rows() != after.rows() || before.cols() != after.cols() ||
+        static_cast<std::size_t>(before.cols()) != layout.size())
+        throw invalid_argument("anima::largest_dof_change: " + std::to_string(before.rows()) + " x " +
+                               std::to_string(before.cols()) + " and " + std::to_string(after.rows()) + " x " +
+                               std::to_string(after.cols()) + " matrices for a layout of " +
+                               std::to_string(layout.size()) + " DOFs");
+    dof_change<typename A::Scalar> out;
+    for (Eigen::Index d = 0; d < before.cols() && before.rows() > 0; ++d) {
+        const auto change = (after.col(d) - before.col(d)).cwiseAbs().maxCoeff();
+        auto& largest = layout.dofs[static_cast<std::size_t>(d)].type == dof::kind::rotation ? out.rotation : out.translation;
+        largest = std::max(largest, change);
+    }
+    return out;
 }
 
 /// Writes a frames x DOF matrix back into a clip with the same skeleton,

@@ -8,7 +8,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -67,6 +69,21 @@ std::vector<Eigen::Matrix<T, 3, 1>> end_site_positions(const skeleton<T>& sk, co
         out[j] = sk[j].end_site ? Eigen::Matrix<T, 3, 1>(pose.positions[j] + pose.orientations[j] * *sk[j].end_site)
                                 : pose.positions[j];
     return out;
+}
+
+/// The lowest point a clip's figure reaches along `direction` (a unit
+/// vector, e.g. up): the least dot product of `direction` with any joint or
+/// End Site position in any frame; +infinity for a clip without frames.
+template <class T>
+T lowest_along(const clip<T>& c, const Eigen::Matrix<T, 3, 1>& direction) {
+    T lowest = std::numeric_limits<T>::infinity();
+    global_pose<T> pose;
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        forward_kinematics(c, f, pose);
+        for (const auto& p : pose.positions) lowest = std::min(lowest, p.dot(direction));
+        for (const auto& p : end_site_positions(c.skeleton(), pose)) lowest = std::min(lowest, p.dot(direction));
+    }
+    return lowest;
 }
 
 /// Global joint positions over the whole clip: a frames x (3 * joints) matrix,
