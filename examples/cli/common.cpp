@@ -237,16 +237,7 @@ std::string join(const std::vector<std::string>& items, std::string_view separat
 // ---------------------------------------------------------------------------
 
 anima::signed_axis parse_signed_axis(std::string_view text) {
-    std::string_view s = text;
-    int sign = 1;
-    if (!s.empty() && (s[0] == '+' || s[0] == '-')) {
-        sign = s[0] == '-' ? -1 : 1;
-        s.remove_prefix(1);
-    }
-    if (s.size() == 1) {
-        const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(s[0])));
-        if (c >= 'x' && c <= 'z') return {static_cast<anima::axis>(c - 'x'), sign};
-    }
+    if (const auto axis = anima::parse_signed_axis(text)) return *axis;
     throw failure("'" + std::string(text) + "' is not an axis: use +X, -X, +Y, -Y, +Z or -Z");
 }
 

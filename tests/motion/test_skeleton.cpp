@@ -3,6 +3,7 @@
 // velocities, the DOF view, figure guesses and whole-clip reorientation.
 #include <anima/bvh/reader.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/text.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/dof_view.hpp>
 #include <anima/motion/figure.hpp>
@@ -916,6 +917,17 @@ TEST_CASE("DOF view of an empty clip") {
 // =====================================================================================
 // figure guesses and reorientation
 // =====================================================================================
+
+TEST_CASE("parse_signed_axis reads back what to_string writes, in any case, the sign optional") {
+    for (const anima::axis a : {anima::axis::x, anima::axis::y, anima::axis::z})
+        for (const int sign : {1, -1}) {
+            const anima::signed_axis s{a, sign};
+            CHECK(anima::parse_signed_axis(anima::to_string(s)) == s);
+            CHECK(anima::parse_signed_axis(anima::ascii_lower(anima::to_string(s))) == s);
+        }
+    CHECK(anima::parse_signed_axis("Z") == anima::signed_axis{anima::axis::z, 1});
+    for (const char* bad : {"", "+", "-", "W", "+XY", "++X", " X", "X "}) CHECK_FALSE(anima::parse_signed_axis(bad));
+}
 
 TEST_CASE("guess_up_axis and guess_units on the bundled clips") {
     const auto& walk = walk_clip<double>().skeleton();

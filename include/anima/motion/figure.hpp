@@ -13,7 +13,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace anima {
@@ -28,6 +30,20 @@ struct signed_axis {
 
 inline std::string to_string(signed_axis a) {
     return std::string(a.sign < 0 ? "-" : "+") + static_cast<char>('X' + static_cast<int>(a.axis));
+}
+
+/// The signed axis `text` names, the inverse of to_string: "+Y", "-z" or
+/// "Z" (the sign optional, + by default; any case); empty for anything else.
+inline std::optional<signed_axis> parse_signed_axis(std::string_view text) {
+    int sign = 1;
+    if (!text.empty() && (text[0] == '+' || text[0] == '-')) {
+        sign = text[0] == '-' ? -1 : 1;
+        text.remove_prefix(1);
+    }
+    if (text.size() != 1) return std::nullopt;
+    const char c = ascii_lower(text)[0];
+    if (c < 'x' || c > 'z') return std::nullopt;
+    return signed_axis{static_cast<anima::axis>(c - 'x'), sign};
 }
 
 /// Unit vector of a signed axis.
