@@ -95,7 +95,7 @@ void run_convert(const convert_options& o) {
     std::string line = "wrote " + o.output + ": " + std::to_string(doc.frames) + " frames, " +
                        std::to_string(written.size()) + " joints, " + std::to_string(written.channel_count()) +
                        " channels, order ";
-    line += order_out == "mixed" ? "mixed (" + join(rotation_orders(written)) + ")" : order_out;
+    line += order_out == "mixed" ? "mixed (" + join(anima::rotation_orders(written)) + ")" : order_out;
     if (order_out != order_in) line += " (was " + order_in + ")";
     line += ", up " + anima::to_string(to);
     if (to != from) line += " (was " + anima::to_string(from) + ")";

@@ -75,7 +75,7 @@ void run_info(const info_options& o) {
         if (sk[j].end_site) std::cout << indent << "  End Site\n";
     }
     std::string orders = rotation_order_summary(sk);
-    if (orders == "mixed") orders += " (" + join(rotation_orders(sk)) + ")";
+    if (orders == "mixed") orders += " (" + join(anima::rotation_orders(sk)) + ")";
     const std::size_t roots = static_cast<std::size_t>(
         std::count_if(sk.joints().begin(), sk.joints().end(), [](const auto& j) { return j.parent < 0; }));
 

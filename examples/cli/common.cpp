@@ -268,31 +268,18 @@ CLI::Validator euler_order_validator() {
         "{XYZ,XZY,YXZ,YZX,ZXY,ZYX}", "euler order");
 }
 
-std::vector<std::string> rotation_orders(const skeleton_t& skeleton) {
-    std::vector<std::string> out;
-    for (std::size_t j = 0; j < skeleton.size(); ++j) {
-        std::string order;
-        for (anima::axis a : skeleton.rotation_axes(j)) order += static_cast<char>('X' + static_cast<int>(a));
-        if (!order.empty() && std::find(out.begin(), out.end(), order) == out.end()) out.push_back(order);
-    }
-    return out;
-}
-
 std::string rotation_order_summary(const skeleton_t& skeleton) {
     std::vector<std::string> full;
-    for (const auto& o : rotation_orders(skeleton))
+    for (const auto& o : anima::rotation_orders(skeleton))
         if (o.size() == 3) full.push_back(o);
     if (full.empty()) return "none";
     return full.size() == 1 ? full[0] : "mixed";
 }
 
 std::string channel_list(const std::vector<anima::channel>& channels) {
-    std::string out;
-    for (std::size_t i = 0; i < channels.size(); ++i) {
-        if (i) out += ' ';
-        out += anima::to_string(channels[i]);
-    }
-    return out;
+    std::vector<std::string> names;
+    for (const anima::channel c : channels) names.emplace_back(anima::to_string(c));
+    return join(names, " ");
 }
 
 // ---------------------------------------------------------------------------

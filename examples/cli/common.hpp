@@ -204,10 +204,6 @@ anima::signed_axis up_axis_or_guess(const std::string& given, const skeleton_t& 
 /// has three rotation channels.
 std::string rotation_order_summary(const skeleton_t& skeleton);
 
-/// The distinct rotation orders of a skeleton, in order of first appearance
-/// (joints with fewer than three rotation channels give e.g. "Z" or "ZX").
-std::vector<std::string> rotation_orders(const skeleton_t& skeleton);
-
 /// "Zrotation Xrotation Yrotation".
 std::string channel_list(const std::vector<anima::channel>& channels);
 

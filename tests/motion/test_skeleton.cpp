@@ -1151,6 +1151,18 @@ TEST_CASE("lowest_along: the lowest joint or End Site over every frame") {
           std::numeric_limits<double>::infinity());
 }
 
+TEST_CASE("rotation_orders lists each order of rotation channels once, in order of first appearance") {
+    CHECK(anima::rotation_orders(small_skeleton<double>()) == std::vector<std::string>{"ZXY"});
+    anima::skeleton<double> sk;
+    sk.add_joint("a", -1, v3d::Zero(), {xp, yp, zp, yr, xr, zr});
+    sk.add_joint("b", 0, v3d::Zero(), {zr});
+    sk.add_joint("c", 1, v3d::Zero(), {yr, xr, zr});
+    sk.add_joint("d", 2, v3d::Zero());
+    sk.add_joint("e", 3, v3d::Zero(), {xr, zr});
+    CHECK(anima::rotation_orders(sk) == std::vector<std::string>{"YXZ", "Z", "XZ"});
+    CHECK(anima::rotation_orders(anima::skeleton<double>()).empty());
+}
+
 TEST_CASE("depth_first_order visits each joint once, children in index order, with its depth") {
     anima::skeleton<double> sk;
     sk.add_joint("a", -1, v3d::Zero());  // 0

@@ -292,6 +292,20 @@ std::vector<std::pair<std::size_t, std::size_t>> depth_first_order(const skeleto
     return out;
 }
 
+/// The distinct orders of the joints' rotation channels, in order of first
+/// appearance: "ZXY" for three channels, "Z" or "ZX" for joints with fewer;
+/// joints without rotation channels add nothing.
+template <class T>
+std::vector<std::string> rotation_orders(const skeleton<T>& sk) {
+    std::vector<std::string> out;
+    for (std::size_t j = 0; j < sk.size(); ++j) {
+        std::string order;
+        for (axis a : sk.rotation_axes(j)) order += static_cast<char>('X' + static_cast<int>(a));
+        if (!order.empty() && std::find(out.begin(), out.end(), order) == out.end()) out.push_back(order);
+    }
+    return out;
+}
+
 /// Throws anima::invalid_argument naming the first joint whose name, parent
 /// or position channels differ between the two skeletons. Offsets (bone
 /// lengths) and rotation channel orders may differ.
