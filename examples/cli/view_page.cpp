@@ -234,18 +234,15 @@ std::string write_view_page(const std::string& path, const view_page& page) {
                              : std::string("a 2D canvas (this anima was built without three.js)"));
 }
 
-std::vector<view_marker> frame_markers(std::size_t clip, std::vector<std::size_t> frames, const std::string& kind,
+std::vector<view_marker> frame_markers(std::size_t clip, const std::vector<std::size_t>& frames, const std::string& kind,
                                        const std::string& label) {
-    std::sort(frames.begin(), frames.end());
-    frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
+    std::vector<bool> marked(frames.empty() ? 0 : *std::max_element(frames.begin(), frames.end()) + 1);
+    for (const std::size_t f : frames) marked[f] = true;
     std::vector<view_marker> out;
-    for (std::size_t i = 0; i < frames.size();) {
-        std::size_t j = i;
-        while (j + 1 < frames.size() && frames[j + 1] == frames[j] + 1) ++j;
-        const std::string span = frames[i] == frames[j] ? "frame " + std::to_string(frames[i])
-                                                        : "frames " + std::to_string(frames[i]) + "-" + std::to_string(frames[j]);
-        out.push_back({clip, frames[i], frames[j], kind, label + " (" + span + ")"});
-        i = j + 1;
+    for (const auto& run : anima::true_runs(marked)) {
+        const std::string span = run.first == run.last ? "frame " + std::to_string(run.first)
+                                                       : "frames " + std::to_string(run.first) + "-" + std::to_string(run.last);
+        out.push_back({clip, run.first, run.last, kind, label + " (" + span + ")"});
     }
     return out;
 }

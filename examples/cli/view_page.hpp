@@ -59,7 +59,7 @@ std::string write_view_page(const std::string& path, const view_page& page);
 /// One marker of `kind` on clip `clip` per run of consecutive frames in
 /// `frames` (sorted or not, repeats allowed), labelled "LABEL (frame a)" or
 /// "LABEL (frames a-b)".
-std::vector<view_marker> frame_markers(std::size_t clip, std::vector<std::size_t> frames, const std::string& kind,
+std::vector<view_marker> frame_markers(std::size_t clip, const std::vector<std::size_t>& frames, const std::string& kind,
                                        const std::string& label);
 
 /// Adds `--view PAGE.html` to a subcommand that makes motion.
