@@ -263,7 +263,7 @@ anima::motion_texture_params<double> texture_params(const texture_options& o, co
 /// every value is finite.
 struct seam_check {
     std::vector<anima::seam_speed<double>> speeds;
-    double worst_joint = 0, worst_root = 0;
+    anima::seam_speed<double> worst;  ///< anima::worst_seam_speed of the passes
     std::string worst_joint_name;
     bool finite = true;
 };
@@ -272,10 +272,8 @@ seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) 
     seam_check out;
     // Against the fastest the input clips move (the texton's source speeds).
     out.speeds = anima::seam_speeds(t.motion, t.overlap_spans, t.texton.source_speeds);
-    const auto worst = anima::worst_seam_speed(out.speeds);
-    out.worst_joint = worst.joint_ratio;
-    out.worst_joint_name = worst.joint_ratio > 0 ? c.skeleton()[worst.worst_joint].name : "";
-    out.worst_root = worst.root_ratio;
+    out.worst = anima::worst_seam_speed(out.speeds);
+    out.worst_joint_name = out.worst.joint_ratio > 0 ? c.skeleton()[out.worst.worst_joint].name : "";
     for (std::size_t f = 0; f < t.motion.frames() && out.finite; ++f)
         for (std::size_t j = 0; j < t.motion.joints(); ++j)
             out.finite = out.finite && t.motion.rotation(f, j).coeffs().allFinite() && t.motion.translation(f, j).allFinite();
@@ -359,12 +357,12 @@ json texture_json(const texture_options& o, const std::vector<std::size_t>& firs
                          {"cost", texton.cut.row_cost[r]}});
     }
     json spans = json::array();
-    for (std::size_t i = 0; i < check.speeds.size(); ++i)
-        spans.push_back({{"first", check.speeds[i].first},
-                         {"last", check.speeds[i].last},
-                         {"joint_speed_ratio", check.speeds[i].joint_ratio},
-                         {"worst_joint", c.skeleton()[check.speeds[i].worst_joint].name},
-                         {"root_speed_ratio", check.speeds[i].root_ratio}});
+    for (const auto& s : check.speeds)
+        spans.push_back({{"first", s.first},
+                         {"last", s.last},
+                         {"joint_speed_ratio", s.joint_ratio},
+                         {"worst_joint", c.skeleton()[s.worst_joint].name},
+                         {"root_speed_ratio", s.root_ratio}});
     json out = {{"input", o.inputs[0]},
                 {"first", firsts[0]},
                 {"input_frames", c.frames()},
@@ -389,9 +387,9 @@ json texture_json(const texture_options& o, const std::vector<std::size_t>& firs
                 {"foot_skate", skate_json(skate.input, skate.output)},
                 {"feet_planted", o.plant_feet},
                 {"planted_runs", t.planted_runs},
-                {"seam_check", {{"joint_speed_ratio", check.worst_joint},
+                {"seam_check", {{"joint_speed_ratio", check.worst.joint_ratio},
                                 {"worst_joint", check.worst_joint_name},
-                                {"root_speed_ratio", check.worst_root},
+                                {"root_speed_ratio", check.worst.root_ratio},
                                 {"finite", check.finite}}},
                 {"poisson", to_json(t.smoothing)},
                 {"stage_seconds", {{"read", times.read},
@@ -498,9 +496,9 @@ void print_texture_summary(const texture_options& o, const std::vector<std::size
               << " between neighbouring joints)\n";
     std::cout << "seam check over " << check.speeds.size() << " pass" << (check.speeds.size() == 1 ? "" : "es")
               << " through " << (clips.size() > 1 ? "the overlaps" : "the overlap") << ": joint speed <= "
-              << format_fixed(check.worst_joint, 3) << " x the input's fastest"
+              << format_fixed(check.worst.joint_ratio, 3) << " x the input's fastest"
               << (check.worst_joint_name.empty() ? "" : " (" + check.worst_joint_name + ")") << ", root speed <= "
-              << format_fixed(check.worst_root, 3) << " x" << (check.finite ? "" : "; NON-FINITE VALUES") << "\n";
+              << format_fixed(check.worst.root_ratio, 3) << " x" << (check.finite ? "" : "; NON-FINITE VALUES") << "\n";
     if (o.symmetric) std::cout << t.passages << " symmetric passages, " << t.turns.size() << " turns\n";
     std::cout << (o.plant_feet ? "feet planted in " + std::to_string(t.planted_runs) + " contact runs" : "feet not planted")
               << "; foot skate " << format_number(skate.output, 3) << " body heights/s"
