@@ -29,19 +29,16 @@ void run_convert(const convert_options& o) {
     const document_t doc = anima::parse_bvh_document<double>(input_text, o.input);
     const anima::up_axis_guess guess = anima::guess_up_axis(doc.skeleton);
     const bool from_given = o.from_up_opt->count() > 0;
-    const anima::signed_axis from = from_given ? parse_signed_axis(o.from_up) : guess.up;
     const bool change_up = o.up_opt->count() > 0;
+    // --from-up needs --up: without it the input's axis is the guess, unannounced.
+    const anima::signed_axis from =
+        change_up ? up_axis_or_guess(o.from_up, doc.skeleton, o.input, "--from-up") : guess.up;
     const bool change_order = o.order_opt->count() > 0;
     const bool change_scale = o.scale_opt->count() > 0;
     // Re-encoding the angles (--euler) also needs the clip; without any of
     // these the document is written as read, keeping the file's numbers.
     const bool via_clip = change_up || change_order || change_scale || o.euler_opt->count() > 0;
     const anima::signed_axis to = change_up ? parse_signed_axis(o.up) : from;
-
-    if (change_up && !from_given && !guess.confident)
-        std::cerr << "anima: warning: cannot tell the up axis of '" << o.input
-                  << "' (no head, neck or foot joint); assuming " << anima::to_string(from)
-                  << ", use --from-up to say otherwise\n";
 
     anima::bvh_write_options options;
     // Unless told otherwise, a document is written with as many decimals as

@@ -249,13 +249,14 @@ CLI::Option* add_up_option(CLI::App& sub, std::string& up, const std::string& he
     return sub.add_option(name, up, help)->type_name("AXIS")->check(signed_axis_validator());
 }
 
-anima::signed_axis up_axis_or_guess(const std::string& given, const skeleton_t& skeleton, const std::string& path) {
+anima::signed_axis up_axis_or_guess(const std::string& given, const skeleton_t& skeleton, const std::string& path,
+                                    std::string_view option) {
     if (!given.empty()) return parse_signed_axis(given);
     const anima::up_axis_guess guess = anima::guess_up_axis(skeleton);
     if (!guess.confident)
         std::cerr << "anima: warning: cannot tell the up axis of '" << path
                   << "' (no head, neck or foot joint); assuming " << anima::to_string(guess.up)
-                  << ", use --up to say otherwise\n";
+                  << ", use " << option << " to say otherwise\n";
     return guess.up;
 }
 

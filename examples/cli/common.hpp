@@ -194,9 +194,11 @@ CLI::Option* add_up_option(CLI::App& sub, std::string& up,
                            const std::string& help = "The clip's up axis, instead of the one guessed from the skeleton",
                            const std::string& name = "--up");
 
-/// The axis `given` (--up), or when that is empty the one guessed from the
-/// skeleton, with a warning naming `path` when the guess has nothing to go on.
-anima::signed_axis up_axis_or_guess(const std::string& given, const skeleton_t& skeleton, const std::string& path);
+/// The axis `given` (by `option`), or when that is empty the one guessed from
+/// the skeleton, with a warning naming `path` and `option` when the guess has
+/// nothing to go on.
+anima::signed_axis up_axis_or_guess(const std::string& given, const skeleton_t& skeleton, const std::string& path,
+                                    std::string_view option = "--up");
 
 
 /// The rotation order of a skeleton's joints with three rotation channels:
