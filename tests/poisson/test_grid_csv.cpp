@@ -53,3 +53,8 @@ TEST_CASE("parse_grid_csv names the file and line of every error") {
     CHECK(error_of("1,2\n\n", 2, 2) == "f.csv:2: the file has 1 rows, the grid 2");
     CHECK(error_of("", 1, 1) == "f.csv:0: the file has 0 rows, the grid 1");
 }
+
+TEST_CASE("parse_grid_csv refuses a grid size below 1 before reading") {
+    CHECK_THROWS_AS(anima::parse_grid_csv<double>("1\n", "f.csv", 0, 1), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::parse_grid_csv<double>("1\n", "f.csv", 1, -2), anima::invalid_argument);
+}

@@ -1,9 +1,9 @@
 // Small text helpers shared by the readers and the name-based guesses.
 #pragma once
 
+#include <algorithm>
 #include <cctype>
 #include <cstddef>
-#include <algorithm>
 #include <string>
 #include <string_view>
 #include <vector>

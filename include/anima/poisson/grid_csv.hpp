@@ -22,10 +22,14 @@ namespace anima {
 /// as text_lines reads them). NaN and infinities are read as they are, for
 /// the solver to reject. Throws anima::parse_error ("path:line: message")
 /// for a field that is not a number, a line with too few or too many
-/// numbers, and too few or too many lines.
+/// numbers, and too few or too many lines; anima::invalid_argument for a
+/// grid size below 1.
 template <class T>
 Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> parse_grid_csv(std::string_view text, const std::string& path,
                                                                  Eigen::Index rows, Eigen::Index cols) {
+    if (rows < 1 || cols < 1)
+        throw invalid_argument("anima::parse_grid_csv: a " + std::to_string(rows) + " x " + std::to_string(cols) +
+                               " grid");
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> f(rows, cols);
     Eigen::Index row = 0;
     std::size_t line_number = 0;
