@@ -12,7 +12,8 @@
 #   --quiet-stderr    stderr must be empty
 #   --keep FILE       FILE is created before the run and must be unchanged after
 #   --absent FILE     FILE must not exist after the run
-#   --setup CMD       a bash command run in WORKDIR before the run
+#   --setup CMD       a bash command run in WORKDIR before the run ($ANIMA
+#                     and $JSON_CHECK as for --check)
 #   --check CMD       a bash command run in WORKDIR after the run; must succeed
 #                     ($ANIMA and $JSON_CHECK name the two programs there)
 #   --fsize KB        also limit the size of written files (ulimit -f)
@@ -53,6 +54,7 @@ done
 shift  # --
 
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 2
+export ANIMA=$anima JSON_CHECK=$json_tool
 for s in "${setup[@]+"${setup[@]}"}"; do
   bash -c "$s" || { echo "FAIL: setup failed: $s" >&2; exit 1; }
 done
@@ -88,7 +90,6 @@ for f in "${keep[@]+"${keep[@]}"}"; do cmp -s "$f" "$f.expected" || report "$f w
 for f in "${absent[@]+"${absent[@]}"}"; do [[ -e $f ]] && report "$f was written"; done
 leftover=$(find . -name '.*.tmp' | head -n 1)
 [[ -n $leftover ]] && report "temporary file left behind: $leftover"
-export ANIMA=$anima JSON_CHECK=$json_tool
 for c in "${checks[@]+"${checks[@]}"}"; do bash -c "$c" || report "check failed: $c"; done
 if [[ ${#json[@]} -gt 0 ]]; then
   if [[ -z $json_tool ]]; then report "--json needs --json-tool"
