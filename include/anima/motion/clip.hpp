@@ -85,7 +85,7 @@ public:
     /// Sets joint j's rotation at frames first, first + 1, ..., first + n - 1
     /// to q[0], ..., q[n - 1]: one joint's blended rotations through many
     /// frames at once. A q already of unit length to rounding (|q|^2 within
-    /// 16 epsilon of 1, as slerp, squad and lerp return them) is stored as it
+    /// 16 epsilon of 1, as slerp, squad and nlerp return them) is stored as it
     /// is, without set_rotation's square root and division; any other is
     /// normalised as set_rotation does, and a zero or non-finite one refused.
     void set_joint_rotations(std::size_t j, std::size_t first, const quaternion* q, std::size_t n) {
