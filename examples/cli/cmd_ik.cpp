@@ -68,50 +68,12 @@ bool parse_frame(const std::string& text, std::size_t& frame) {
     return true;
 }
 
-/// Reads "frame,effector,x,y,z" lines ('#' starts a comment, blank lines
-/// are skipped; LF, CRLF or CR line ends, an optional UTF-8 byte order
-/// mark); every error names the file and line, including a frame outside
-/// the clip and an effector the skeleton does not have.
+/// The goals of a --targets file (anima::parse_position_targets: every
+/// error names the file and line), by effector name.
 frame_targets read_targets(const std::string& path, const clip_t& c) {
-    const std::vector<std::string> lines = anima::text_lines(read_text_file(path));
     frame_targets targets;
-    for (std::size_t number = 1; number <= lines.size(); ++number) {
-        std::string line = lines[number - 1];
-        const auto hash = line.find('#');
-        if (hash != std::string::npos) line.erase(hash);
-        if (line.find_first_not_of(" \t") == std::string::npos) continue;
-        std::vector<std::string> fields;
-        std::stringstream cells(line);
-        for (std::string cell; std::getline(cells, cell, ',');) {
-            const auto b = cell.find_first_not_of(" \t"), e = cell.find_last_not_of(" \t");
-            fields.push_back(b == std::string::npos ? "" : cell.substr(b, e - b + 1));
-        }
-        const auto where = path + ":" + std::to_string(number) + ": ";
-        if (fields.size() != 5) throw failure(where + "expected frame,effector,x,y,z (5 fields), got " + std::to_string(fields.size()));
-        std::size_t frame = 0;
-        if (!parse_frame(fields[0], frame))
-            throw failure(where + "'" + anima::detail::escape_for_message(fields[0], 60) + "' is not a frame number");
-        vec3 p;
-        try {
-            std::size_t used = 0;
-            for (int k = 0; k < 3; ++k) {
-                p[k] = std::stod(fields[2 + k], &used);
-                if (used != fields[2 + k].size()) throw std::invalid_argument("trailing");
-            }
-        } catch (const std::exception&) {
-            throw failure(where + "expected three numbers x,y,z, got '" + anima::detail::escape_for_message(line, 200) + "'");
-        }
-        if (!p.allFinite()) throw failure(where + "the target is not finite");
-        if (fields[1].empty()) throw failure(where + "the effector name is empty");
-        if (frame >= c.frames())
-            throw failure(where + "frame " + std::to_string(frame) + " is outside the clip (0.." +
-                          std::to_string(c.frames() - 1) + ")");
-        if (!c.skeleton().find(fields[1]))
-            throw failure(where + "no joint named '" + anima::detail::escape_for_message(fields[1], 200) + "' in the clip" +
-                          c.skeleton().did_you_mean(fields[1]));
-        targets[frame].emplace_back(fields[1], p);
-    }
-    if (targets.empty()) throw failure("'" + path + "' holds no targets");
+    for (const auto& frame : anima::parse_position_targets(read_text_file(path), path, c.skeleton(), c.frames()))
+        for (const auto& goal : frame.goals) targets[frame.frame].emplace_back(c.skeleton()[goal.joint].name, goal.position);
     return targets;
 }
 

@@ -1,0 +1,113 @@
+// Per-frame position goals for clip IK from a text file, one goal a line:
+//
+//   # frame,effector,x,y,z
+//   120,LeftHand,0.31,1.02,0.15
+//   121,LeftHand,0.31,1.03,0.15
+//
+// what `anima ik --targets` reads: a hand moved along a path, a foot held
+// where it is, each target in the clip's world units.
+#pragma once
+
+#include <anima/core/error.hpp>
+#include <anima/core/file_io.hpp>
+#include <anima/core/text.hpp>
+#include <anima/ik/clip_ik.hpp>
+#include <anima/ik/goal.hpp>
+#include <anima/motion/skeleton.hpp>
+
+#include <Eigen/Core>
+
+#include <charconv>
+#include <cstddef>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+namespace anima {
+
+namespace detail {
+
+/// The fields of a comma-separated line, blanks around each trimmed.
+inline std::vector<std::string_view> trimmed_fields(std::string_view line) {
+    std::vector<std::string_view> fields;
+    for (std::size_t start = 0;;) {
+        const std::size_t comma = std::min(line.find(',', start), line.size());
+        std::string_view cell = line.substr(start, comma - start);
+        const std::size_t b = cell.find_first_not_of(" \t"), e = cell.find_last_not_of(" \t");
+        fields.push_back(b == std::string_view::npos ? std::string_view() : cell.substr(b, e - b + 1));
+        if (comma == line.size()) return fields;
+        start = comma + 1;
+    }
+}
+
+/// A number that is the whole of `text` (strtod's syntax), or false.
+template <class T>
+bool whole_number(std::string_view text, T& value) {
+    const std::string s(text);
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size()) return false;
+    value = static_cast<T>(v);
+    return true;
+}
+
+}  // namespace detail
+
+/// Position goals per frame from "frame,effector,x,y,z" lines: a frame
+/// number (digits only), a joint of `sk` by name, and the target's world
+/// position. '#' starts a comment; blank lines are skipped (line ends and a
+/// byte order mark as text_lines reads them). The result has one
+/// frame_goals per frame named, in increasing frame order, its goals
+/// (position_goal on the joint's origin) in the order of the lines: what
+/// solve_clip_ik takes. Throws anima::parse_error ("path:line: message") for
+/// a line without five fields, a frame that is not a number or not below
+/// `frames`, an effector `sk` does not have (naming a joint that differs
+/// only in case), a
+/// target that is not three finite numbers, and text with no goal at all.
+template <class T>
+std::vector<frame_goals<T>> parse_position_targets(std::string_view text, const std::string& path,
+                                                   const skeleton<T>& sk, std::size_t frames) {
+    std::map<std::size_t, std::vector<ik_goal<T>>> by_frame;
+    const std::vector<std::string> lines = text_lines(text);
+    for (std::size_t number = 1; number <= lines.size(); ++number) {
+        std::string_view line = lines[number - 1];
+        line = line.substr(0, line.find('#'));
+        if (line.find_first_not_of(" \t") == std::string_view::npos) continue;
+        const auto fail = [&](const std::string& message) { throw parse_error(path, number, message); };
+        const std::vector<std::string_view> f = detail::trimmed_fields(line);
+        if (f.size() != 5)
+            fail("expected frame,effector,x,y,z (5 fields), got " + std::to_string(f.size()));
+        unsigned long long frame = 0;
+        const auto read = std::from_chars(f[0].data(), f[0].data() + f[0].size(), frame);
+        if (f[0].empty() || f[0].find_first_not_of("0123456789") != std::string_view::npos || read.ec != std::errc())
+            fail("'" + std::string(f[0]) + "' is not a frame number");
+        Eigen::Matrix<T, 3, 1> p;
+        for (int k = 0; k < 3; ++k)
+            if (!detail::whole_number(f[2 + static_cast<std::size_t>(k)], p[k]))
+                fail("expected three numbers x,y,z, got '" + std::string(line) + "'");
+        if (!p.allFinite()) fail("the target is not finite");
+        if (f[1].empty()) fail("the effector name is empty");
+        if (frame >= frames)
+            fail("frame " + std::to_string(frame) + " is outside the clip (" +
+                 (frames == 0 ? std::string("it has no frames") : "0.." + std::to_string(frames - 1)) + ")");
+        const auto joint = sk.find(f[1]);
+        if (!joint) fail("no joint named '" + std::string(f[1]) + "' in the clip" + sk.did_you_mean(f[1]));
+        by_frame[static_cast<std::size_t>(frame)].push_back(position_goal<T>(*joint, p));
+    }
+    if (by_frame.empty()) throw parse_error(path, lines.size(), "no targets in the file");
+    std::vector<frame_goals<T>> out;
+    for (auto& [frame, goals] : by_frame) out.push_back({frame, std::move(goals)});
+    return out;
+}
+
+/// parse_position_targets on the content of a file (read_file: its size
+/// checked first). Throws anima::io_error when it cannot be read.
+template <class T>
+std::vector<frame_goals<T>> read_position_targets(const std::string& path, const skeleton<T>& sk, std::size_t frames) {
+    return parse_position_targets(read_file(path), path, sk, frames);
+}
+
+}  // namespace anima
