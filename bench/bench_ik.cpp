@@ -25,6 +25,11 @@
 //                        11 cm up over frames 10-89, adaptive DLS, warm
 //                        starts; solve_clip_ik on the clip against
 //                        solve_clip_frame_into frame by frame (items: frames)
+//   BM_plant_feet<own contacts | contacts given>
+//                        plant_feet on the first 240 frames of the walk:
+//                        finding the contacts itself (the feet measured once
+//                        for both), and with find_contacts' result passed in
+//                        (items: frames)
 
 #include "../tests/ik/ik_test_support.hpp"
 
@@ -285,6 +290,29 @@ void BM_clip_ik_whole(benchmark::State& state) {
     state.counters["converged"] = static_cast<double>(converged) / static_cast<double>(e.goals.size());
 }
 
+const anima::clip<double>& walk_240() {
+    static const anima::clip<double> c =
+        anima::read_bvh<double>(std::string(ANIMA_BENCH_DATA_DIR) + "/walk_cmu31_02_01.bvh").slice(0, 240);
+    return c;
+}
+
+void BM_plant_feet_own_contacts(benchmark::State& state) {
+    for (auto _ : state) {
+        const auto r = anima::plant_feet(walk_240());
+        benchmark::DoNotOptimize(r.planted.rotations().data());
+    }
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * walk_240().frames()));
+}
+
+void BM_plant_feet_contacts_given(benchmark::State& state) {
+    const auto contacts = anima::find_contacts(walk_240());
+    for (auto _ : state) {
+        const auto r = anima::plant_feet(walk_240(), contacts, {});
+        benchmark::DoNotOptimize(r.planted.rotations().data());
+    }
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * walk_240().frames()));
+}
+
 void BM_clip_ik_frame_into(benchmark::State& state) {
     const clip_edit& e = hand_edit();
     anima::kinematic_tree<double> tree(e.walk.skeleton());
@@ -377,5 +405,7 @@ BENCHMARK(BM_ik_anima_levenberg_marquardt_limits_in_step)->Arg(0)->Arg(1)->Itera
 BENCHMARK(BM_ik_anima_ccd_position_only)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_clip_ik_whole)->Name("BM_clip_ik<whole clip>")->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_clip_ik_frame_into)->Name("BM_clip_ik<per frame, into>")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_plant_feet_own_contacts)->Name("BM_plant_feet<own contacts>")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_plant_feet_contacts_given)->Name("BM_plant_feet<contacts given>")->Unit(benchmark::kMillisecond);
 
 }  // namespace

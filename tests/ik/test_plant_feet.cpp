@@ -255,3 +255,27 @@ TEST_CASE_TEMPLATE("plant_feet: short clips and bad input", T, float, double) {
         CHECK(anima_test::contains(message, "slide_fraction"));
     }
 }
+
+TEST_CASE_TEMPLATE("plant_feet finding its own contacts: the result with find_contacts' contacts, bit for bit", T, float,
+                   double) {
+    // The overload without contacts measures the feet once, for the contacts
+    // and the planting both; the result must not change.
+    const auto walk = anima::read_bvh<T>(anima_test::bundled("walk_cmu31_02_01.bvh")).slice(0, 240);
+    anima::plant_feet_params<T> params;
+    for (const bool height : {false, true}) {
+        if (height) params.contacts = height_only<T>();
+        const auto own = anima::plant_feet(walk, params);
+        const auto given = anima::plant_feet(walk, anima::find_contacts(walk, params.contacts), params);
+        CHECK(own.runs == given.runs);
+        CHECK(own.frames == given.frames);
+        CHECK(own.largest_error == given.largest_error);
+        REQUIRE(own.planted.frames() == given.planted.frames());
+        bool same = true;
+        for (std::size_t i = 0; i < own.planted.rotations().size(); ++i)
+            same = same && own.planted.rotations()[i].coeffs() == given.planted.rotations()[i].coeffs();
+        for (std::size_t i = 0; i < own.planted.translations().size(); ++i)
+            same = same && own.planted.translations()[i] == given.planted.translations()[i];
+        CHECK(same);
+        CHECK(own.runs > 0);
+    }
+}

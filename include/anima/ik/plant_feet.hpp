@@ -248,17 +248,13 @@ void check_plant_feet(const clip<T>& c, const contact_set<T>& contacts, const pl
     }
 }
 
-}  // namespace detail
-
-/// The clip with feet in contact planted, using the given contacts (found on
-/// this clip, or built by the caller). A foot too close to the root to have
-/// a leg (it needs a parent and a grandparent) is left as it is. Throws
-/// anima::invalid_argument for contacts of another clip (frame count or
-/// joints) or bad parameters.
+/// plant_feet on checked arguments. `given`: measure_feet of the contacts'
+/// feet from their lead-in on, when the caller has it (find_contacts
+/// measures them too), else null.
 template <class T>
-plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts, const plant_feet_params<T>& params) {
+plant_feet_result<T> plant_feet_checked(const clip<T>& c, const contact_set<T>& contacts,
+                                        const plant_feet_params<T>& params, const std::vector<foot_points<T>>* given) {
     using vector3 = Eigen::Matrix<T, 3, 1>;
-    detail::check_plant_feet(c, contacts, params);
     const auto& sk = c.skeleton();
     const std::size_t frames = c.frames();
     plant_feet_result<T> out{c, contacts, 0, 0, T(0), T(0)};
@@ -290,9 +286,14 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
     // The foot's points as foot_skate sees them: each point's rise above its
     // own standing height and its speed, to pick the one that carries the
     // weight in each frame.
-    std::vector<std::size_t> foot_joints;
-    for (const auto& foot : contacts.feet) foot_joints.push_back(foot.joint);
-    const auto measured = detail::measure_feet(c, foot_joints, contacts.lead_in, contacts, params.contacts);
+    std::vector<foot_points<T>> own;
+    if (!given) {
+        std::vector<std::size_t> foot_joints;
+        for (const auto& foot : contacts.feet) foot_joints.push_back(foot.joint);
+        own = detail::measure_feet(c, foot_joints, contacts.lead_in, contacts, params.contacts);
+        given = &own;
+    }
+    const std::vector<foot_points<T>>& measured = *given;
     const T slide_speed = params.slide_fraction * detail::fast_foot_speed(measured);
     for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
         const auto& foot = contacts.feet[i];
@@ -354,11 +355,28 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
     return out;
 }
 
+}  // namespace detail
+
+/// The clip with feet in contact planted, using the given contacts (found on
+/// this clip, or built by the caller). A foot too close to the root to have
+/// a leg (it needs a parent and a grandparent) is left as it is. Throws
+/// anima::invalid_argument for contacts of another clip (frame count or
+/// joints) or bad parameters.
+template <class T>
+plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts, const plant_feet_params<T>& params) {
+    detail::check_plant_feet(c, contacts, params);
+    return detail::plant_feet_checked(c, contacts, params, static_cast<const std::vector<detail::foot_points<T>>*>(nullptr));
+}
+
 /// The clip with feet in contact planted, contacts found on the clip with
-/// params.contacts (find_contacts' errors: no feet, no height).
+/// params.contacts (find_contacts' errors: no feet, no height). The feet
+/// are measured once, for both.
 template <class T>
 plant_feet_result<T> plant_feet(const clip<T>& c, const plant_feet_params<T>& params = {}) {
-    return plant_feet(c, find_contacts(c, params.contacts), params);
+    std::vector<detail::foot_points<T>> measured;
+    const contact_set<T> contacts = detail::find_contacts_measured(c, params.contacts, measured);
+    detail::check_plant_feet(c, contacts, params);
+    return detail::plant_feet_checked(c, contacts, params, &measured);
 }
 
 /// Whether plant_feet(c, params) finds feet to plant: the clip has frames,

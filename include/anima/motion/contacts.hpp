@@ -350,12 +350,13 @@ bool has_feet(const clip<T>& c, const contact_params<T>& params = {}) {
     return !params.feet.empty() || !find_feet(c.skeleton(), up).empty();
 }
 
-/// Contacts and airborne phases of a clip. Throws anima::invalid_argument for
-/// a foot name the skeleton does not have, a skeleton without feet (name
-/// them in params.feet; has_feet tells beforehand), a figure of zero height
-/// or bad thresholds.
+namespace detail {
+
+/// find_contacts, and the feet's points as it measured them (measure_feet
+/// of its feet from its lead-in on), for a caller that needs both.
 template <class T>
-contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params = {}) {
+contact_set<T> find_contacts_measured(const clip<T>& c, const contact_params<T>& params,
+                                      std::vector<foot_points<T>>& measured) {
     const std::string who = "anima::find_contacts";
     detail::check_contact_params(params);
     const auto& sk = c.skeleton();
@@ -382,7 +383,7 @@ contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params =
     const auto frames_of = [&](T seconds) {
         return static_cast<std::size_t>(std::ceil(seconds / c.frame_time() - T(1e-6)));
     };
-    const auto measured = detail::measure_feet(c, feet, first, out, params);
+    measured = detail::measure_feet(c, feet, first, out, params);
     out.fast_foot_speed = detail::fast_foot_speed(measured);
     out.speed_on = std::min(params.speed_on, std::max(params.speed_floor, params.relative_speed * out.fast_foot_speed));
     const T speed_off = out.speed_on * (params.speed_off / params.speed_on);
@@ -409,6 +410,18 @@ contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params =
     out.airborne.insert(out.airborne.end(), airborne.begin(), airborne.end());
     out.airborne_phases = true_runs(out.airborne);
     return out;
+}
+
+}  // namespace detail
+
+/// Contacts and airborne phases of a clip. Throws anima::invalid_argument for
+/// a foot name the skeleton does not have, a skeleton without feet (name
+/// them in params.feet; has_feet tells beforehand), a figure of zero height
+/// or bad thresholds.
+template <class T>
+contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params = {}) {
+    std::vector<detail::foot_points<T>> measured;
+    return detail::find_contacts_measured(c, params, measured);
 }
 
 /// Foot skate: the horizontal speed of feet in contact, in body heights per
