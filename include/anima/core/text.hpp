@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cstddef>
+#include <cstdlib>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,6 +25,18 @@ inline bool ascii_equal_ignoring_case(std::string_view a, std::string_view b) {
     for (std::size_t k = 0; k < a.size(); ++k)
         if (std::tolower(static_cast<unsigned char>(a[k])) != std::tolower(static_cast<unsigned char>(b[k]))) return false;
     return true;
+}
+
+/// The number that is the whole of `text` (strtod's syntax: NaN, infinities
+/// and hexadecimal included; out of range gives 0 or infinity), or empty
+/// when any of it is not part of the number. For the readers' fields.
+inline std::optional<double> whole_number(std::string_view text) {
+    const std::string s(text);
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    // strtod skips leading blanks; a field with them is not all number.
+    if (s.empty() || std::isspace(static_cast<unsigned char>(s[0])) || end != s.c_str() + s.size()) return std::nullopt;
+    return v;
 }
 
 /// The lines of a text, without their line ends (LF, CRLF or a lone CR, as

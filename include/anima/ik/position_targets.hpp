@@ -19,8 +19,8 @@
 
 #include <charconv>
 #include <cstddef>
-#include <cstdlib>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -41,17 +41,6 @@ inline std::vector<std::string_view> trimmed_fields(std::string_view line) {
         if (comma == line.size()) return fields;
         start = comma + 1;
     }
-}
-
-/// A number that is the whole of `text` (strtod's syntax), or false.
-template <class T>
-bool whole_number(std::string_view text, T& value) {
-    const std::string s(text);
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (s.empty() || end != s.c_str() + s.size()) return false;
-    value = static_cast<T>(v);
-    return true;
 }
 
 }  // namespace detail
@@ -85,9 +74,11 @@ std::vector<frame_goals<T>> parse_position_targets(std::string_view text, const 
         if (f[0].empty() || f[0].find_first_not_of("0123456789") != std::string_view::npos || read.ec != std::errc())
             fail("'" + std::string(f[0]) + "' is not a frame number");
         Eigen::Matrix<T, 3, 1> p;
-        for (int k = 0; k < 3; ++k)
-            if (!detail::whole_number(f[2 + static_cast<std::size_t>(k)], p[k]))
-                fail("expected three numbers x,y,z, got '" + std::string(line) + "'");
+        for (int k = 0; k < 3; ++k) {
+            const std::optional<double> v = whole_number(f[2 + static_cast<std::size_t>(k)]);
+            if (!v) fail("expected three numbers x,y,z, got '" + std::string(line) + "'");
+            p[k] = static_cast<T>(*v);
+        }
         if (!p.allFinite()) fail("the target is not finite");
         if (f[1].empty()) fail("the effector name is empty");
         if (frame >= frames)

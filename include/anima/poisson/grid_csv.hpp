@@ -9,7 +9,7 @@
 
 #include <cstddef>
 #include <cstdio>
-#include <cstdlib>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -44,10 +44,9 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> parse_grid_csv(std::string_view
         Eigen::Index col = 0;
         while (fields >> field) {
             if (col == cols) throw parse_error(path, line_number, "more than " + std::to_string(cols) + " numbers");
-            char* end = nullptr;
-            const double v = std::strtod(field.c_str(), &end);
-            if (end == field.c_str() || *end != '\0') throw parse_error(path, line_number, "'" + field + "' is not a number");
-            f(row, col++) = static_cast<T>(v);
+            const std::optional<double> v = whole_number(field);
+            if (!v) throw parse_error(path, line_number, "'" + field + "' is not a number");
+            f(row, col++) = static_cast<T>(*v);
         }
         if (col != cols)
             throw parse_error(path, line_number, std::to_string(col) + " numbers, expected " + std::to_string(cols));

@@ -95,17 +95,16 @@ int direct_series_tier(T minus_y) {
 
 /// f(std::integral_constant<int, n>{}) with n the terms of the direct
 /// series that a tier needs: one instance of the series per tier.
-template <class T, class F>
+template <class T, int K = 0, class F>
 ANIMA_FORCE_INLINE void with_direct_series_terms(int tier, F&& f) {
-    constexpr int tiers = direct_series_tiers<T>;
-    const auto within = [&](auto k) {
-        f(std::integral_constant<int, direct_series_terms_within<T>(direct_series_bounds<T>[decltype(k)::value])>{});
-    };
-    if (tier == 0) within(std::integral_constant<int, 0>{});
-    else if (tier == 1) within(std::integral_constant<int, 1>{});
-    else if (tiers > 2 && tier == 2) within(std::integral_constant<int, (tiers > 2 ? 2 : 0)>{});
-    else if (tiers > 3 && tier == 3) within(std::integral_constant<int, (tiers > 3 ? 3 : 0)>{});
-    else f(std::integral_constant<int, direct_series_terms<T>()>{});
+    if constexpr (K < direct_series_tiers<T>) {
+        if (tier == K)
+            f(std::integral_constant<int, direct_series_terms_within<T>(direct_series_bounds<T>[K])>{});
+        else
+            with_direct_series_terms<T, K + 1>(tier, f);
+    } else {
+        f(std::integral_constant<int, direct_series_terms<T>()>{});
+    }
 }
 
 /// Number of series terms for tau <= 4, theta <= pi/2 that leaves the
