@@ -19,6 +19,10 @@
 //                                   the per-call form with angular speeds measured
 //                                   for the key joints only
 //                                   (timing_params::every_joint = false): the same T
+//   BM_transition<..., 43 joints, float>
+//                                   the two per-call rows above in float, the
+//                                   scalar of game engines (the run read as
+//                                   clip<float>)
 //   BM_transition<crossfade>        anima::crossfade over 0.3 s, the fixed-length
 //                                   blend most engines use
 //   BM_transition<inertialize>      anima::inertialize with a 0.1 s half-life
@@ -44,8 +48,9 @@ const anima::clip<double>& walk() {
     return c;
 }
 
-const anima::clip<double>& run() {
-    static const anima::clip<double> c = anima::read_bvh(ANIMA_BENCH_DATA_DIR "/run_cmu_09_01.bvh");
+template <class T = double>
+const anima::clip<T>& run() {
+    static const anima::clip<T> c = anima::read_bvh<T>(ANIMA_BENCH_DATA_DIR "/run_cmu_09_01.bvh");
     return c;
 }
 
@@ -59,7 +64,8 @@ void variable_timing(benchmark::State& state) {
     }
 }
 
-anima::transition_params classified(const anima::clip<double>& c) {
+template <class T>
+anima::transition_params classified(const anima::clip<T>& c) {
     anima::transition_params params;
     params.class_a = params.class_b = anima::classify_motion(c, anima::joint_roles(c.skeleton()));
     return params;
@@ -73,12 +79,13 @@ void make_classified(benchmark::State& state, const anima::clip<double>& c, std:
     }
 }
 
-void into_classified(benchmark::State& state, const anima::clip<double>& c, std::size_t at, std::size_t to,
+template <class T>
+void into_classified(benchmark::State& state, const anima::clip<T>& c, std::size_t at, std::size_t to,
                      bool every_joint = true) {
     anima::transition_params params = classified(c);
     params.timing.every_joint = every_joint;
-    anima::transition_frames<double> out;
-    anima::transition_workspace<double> workspace;
+    anima::transition_frames<T> out;
+    anima::transition_workspace<T> workspace;
     for (auto _ : state) {
         anima::make_transition_into(c, at, c, to, params, out, workspace);
         benchmark::DoNotOptimize(out.frames.rotations().data());
@@ -90,6 +97,10 @@ void variable_timing_into(benchmark::State& state) { into_classified(state, walk
 void variable_timing_preclassified_43(benchmark::State& state) { make_classified(state, run(), 70, 30); }
 void variable_timing_into_43(benchmark::State& state) { into_classified(state, run(), 70, 30); }
 void variable_timing_into_43_key_joints(benchmark::State& state) { into_classified(state, run(), 70, 30, false); }
+void variable_timing_into_43_float(benchmark::State& state) { into_classified(state, run<float>(), 70, 30); }
+void variable_timing_into_43_key_joints_float(benchmark::State& state) {
+    into_classified(state, run<float>(), 70, 30, false);
+}
 
 void crossfade(benchmark::State& state) {
     const auto& c = walk();
@@ -132,6 +143,12 @@ BENCHMARK(variable_timing_into_43)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(variable_timing_into_43_key_joints)
     ->Name("BM_transition<variable_timing, classified, into, key joints timed, 43 joints>")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(variable_timing_into_43_float)
+    ->Name("BM_transition<variable_timing, classified, into, 43 joints, float>")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(variable_timing_into_43_key_joints_float)
+    ->Name("BM_transition<variable_timing, classified, into, key joints timed, 43 joints, float>")
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(crossfade)->Name("BM_transition<crossfade>")->Unit(benchmark::kMicrosecond);
 BENCHMARK(inertialize)->Name("BM_transition<inertialize>")->Unit(benchmark::kMicrosecond);

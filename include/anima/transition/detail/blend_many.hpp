@@ -39,6 +39,10 @@ void blend_groups(const T* t, std::size_t n, bool fast, Eigen::Quaternion<T>* ou
             for (std::size_t i = 0; i < m; ++i) out[k + i] = single(t[k + i]);
             continue;
         }
+        if (m == blend_group) {
+            group(u, out + k);  // straight into place: a copy of a variable count becomes a slow memcpy
+            continue;
+        }
         Eigen::Quaternion<T> results[blend_group];
         group(u, results);
         for (std::size_t i = 0; i < m; ++i) out[k + i] = results[i];
