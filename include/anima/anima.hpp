@@ -5,6 +5,7 @@
 #include <anima/bvh.hpp>
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/core/random.hpp>
 #include <anima/core/version.hpp>
 #include <anima/flight.hpp>

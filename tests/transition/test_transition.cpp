@@ -604,6 +604,45 @@ TEST_CASE("in-between quaternions stay unit in double and float") {
     CHECK(tf.timing.limiting_joint == td.timing.limiting_joint);
 }
 
+TEST_CASE("float motion with subnormal components: the transition flushes them inside and keeps the caller's mode") {
+    // The run's BVH holds angles of 1e-19 degrees: in float some of its
+    // quaternion components are subnormal, and the transition runs with them
+    // flushed (anima::flush_denormals). Its frames agree with the double
+    // transition's, and the caller's gradual underflow is untouched, also
+    // when variable_timing throws from inside its guard.
+    const auto& f = run<float>();
+    std::size_t subnormal = 0;
+    for (const auto& q : f.rotations())
+        for (int i = 0; i < 4; ++i) subnormal += std::fpclassify(q.coeffs()[i]) == FP_SUBNORMAL;
+    REQUIRE(subnormal > 0);
+    const auto gradual = [] {
+        volatile float smallest = std::numeric_limits<float>::min();
+        volatile float half = smallest * 0.5f;
+        return half > 0.0f;
+    };
+    REQUIRE(gradual());
+    anima::transition_params params;
+    params.timing.every_joint = false;
+    anima::transition_frames<float> out;
+    anima::transition_workspace<float> ws;
+    anima::make_transition_into(f, 60, f, 20, params, out, ws);
+    CHECK(gradual());
+    const auto td = anima::make_transition(run<double>(), 60, run<double>(), 20);
+    REQUIRE(out.frames.frames() == td.frames.frames());
+    double worst = 0;
+    for (std::size_t k = 0; k < out.frames.frames(); ++k)
+        for (std::size_t j = 0; j < out.frames.joints(); ++j)
+            worst = std::max(worst, anima::angle_between(out.frames.rotation(k, j).cast<double>(),
+                                                         td.frames.rotation(k, j)));
+    CHECK(worst < 1e-4);
+    anima::timing_params bad;
+    bad.min_speed = 0;
+    CHECK_THROWS_AS(anima::variable_timing(f, 60, f, 20, anima::joint_roles(f.skeleton()), Eigen::Quaternionf::Identity(),
+                                           bad),
+                    anima::invalid_argument);
+    CHECK(gradual());
+}
+
 TEST_CASE("per-joint methods: fingers lerp, large turns squad, the rest slerp; overrides") {
     const auto& a = run<double>();
     const std::size_t trigger = 60, b_start = 20, finger = index(a, "rIndex1"), thigh = index(a, "rThigh");

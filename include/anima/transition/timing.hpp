@@ -16,6 +16,7 @@
 #include <anima/core/constants.hpp>
 #include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/joint_roles.hpp>
 #include <anima/rotation/detail/angle_series.hpp>
@@ -373,6 +374,7 @@ template <class T>
 timing_result<T> variable_timing(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
                                  const std::vector<joint_role>& roles, const Eigen::Quaternion<T>& b_root_turn,
                                  const timing_params& params = {}) {
+    const flush_denormals guard;  // see make_transition_into
     timing_result<T> out;
     detail::rates_scratch<T> scratch;
     detail::variable_timing_into(a, trigger, b, b_start, roles, b_root_turn, params, out, scratch);

@@ -25,6 +25,7 @@
 #include <anima/core/constants.hpp>
 #include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/joint_roles.hpp>
 #include <anima/motion/resample.hpp>
@@ -198,6 +199,7 @@ bool other_frame_time(const clip<T>& a, const clip<T>& b) {
 template <class T>
 void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
                              const transition_params& params, transition_frames<T>& out, transition_workspace<T>& ws) {
+    const flush_denormals guard;  // float mocap's tiny angles would otherwise halve the speed
     using vec3 = Eigen::Matrix<T, 3, 1>;
     using quat = Eigen::Quaternion<T>;
     const std::size_t nj = a.joints();
