@@ -4,6 +4,7 @@
 
 #include <anima/core/error.hpp>
 
+#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -35,6 +36,14 @@ inline std::string bundled(const std::string& name) { return std::string(ANIMA_T
 template <class T>
 T tolerance(double for_double, double for_float) {
     return static_cast<T>(std::is_same_v<T, double> ? for_double : for_float);
+}
+
+/// The calling thread has IEEE gradual underflow, as a test process starts:
+/// no anima::flush_denormals scope was left switched on.
+inline bool gradual_underflow() {
+    volatile float smallest = std::numeric_limits<float>::min();
+    volatile float half = smallest * 0.5f;
+    return half > 0.0f;
 }
 
 inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }

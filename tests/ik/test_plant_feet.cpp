@@ -279,3 +279,19 @@ TEST_CASE_TEMPLATE("plant_feet finding its own contacts: the result with find_co
         CHECK(own.runs > 0);
     }
 }
+
+TEST_CASE("plant_feet on float mocap with subnormal components: double's runs, the caller's mode kept") {
+    const auto f = anima::read_bvh<float>(anima_test::bundled("run_cmu_09_01.bvh"));
+    const auto d = anima::read_bvh<double>(anima_test::bundled("run_cmu_09_01.bvh"));
+    REQUIRE(anima_test::gradual_underflow());
+    const auto pf = anima::plant_feet(f);
+    CHECK(anima_test::gradual_underflow());
+    const auto pf_given = anima::plant_feet(f, pf.contacts, anima::plant_feet_params<float>{});
+    CHECK(anima_test::gradual_underflow());
+    const auto pd = anima::plant_feet(d);
+    CHECK(pf.runs == pd.runs);
+    CHECK(pf_given.runs == pf.runs);
+    bool finite = true;
+    for (const auto& q : pf.planted.rotations()) finite = finite && q.coeffs().allFinite();
+    CHECK(finite);
+}

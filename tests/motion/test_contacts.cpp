@@ -270,3 +270,19 @@ TEST_CASE("find_contacts on the shared jump") {
     CHECK(s.airborne_phases[0].first > 90);
     CHECK(s.airborne_phases[0].last < 200);
 }
+
+TEST_CASE("find_contacts on float mocap with subnormal components: double's contacts, the caller's mode kept") {
+    // The run's channels of 1e-19 degrees make subnormal floats, which
+    // find_contacts flushes inside its own scope (anima::flush_denormals).
+    const auto f = anima::read_bvh<float>(anima_test::bundled("run_cmu_09_01.bvh"));
+    const auto d = anima::read_bvh<double>(anima_test::bundled("run_cmu_09_01.bvh"));
+    REQUIRE(anima_test::gradual_underflow());
+    const auto cf = anima::find_contacts(f);
+    CHECK(anima_test::gradual_underflow());
+    const auto cd = anima::find_contacts(d);
+    REQUIRE(cf.airborne.size() == cd.airborne.size());
+    std::size_t differ = 0;
+    for (std::size_t k = 0; k < cf.airborne.size(); ++k) differ += cf.airborne[k] != cd.airborne[k];
+    CHECK(differ <= 1);
+    CHECK(static_cast<double>(cf.body_height) == doctest::Approx(cd.body_height).epsilon(1e-5));
+}

@@ -803,3 +803,16 @@ TEST_CASE("every clip of the shared data set: finite scores and turning candidat
         }
     }
 }
+
+TEST_CASE("symmetry_scores on float mocap with subnormal components: double's scores, the caller's mode kept") {
+    // Squares of the run's 1e-19-degree channels are subnormal in float;
+    // symmetry_scores flushes them inside its own scope.
+    const auto f = anima::read_bvh<float>(anima_test::bundled("run_cmu_09_01.bvh"));
+    const auto d = anima::read_bvh<double>(anima_test::bundled("run_cmu_09_01.bvh"));
+    REQUIRE(anima_test::gradual_underflow());
+    const auto sf = anima::symmetry_scores(f);
+    CHECK(anima_test::gradual_underflow());
+    const auto sd = anima::symmetry_scores(d);
+    REQUIRE(sf.score.size() == sd.score.size());
+    CHECK((sf.score.template cast<double>() - sd.score).cwiseAbs().maxCoeff() < 1e-3);
+}

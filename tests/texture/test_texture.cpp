@@ -448,3 +448,20 @@ TEST_CASE_TEMPLATE("seam speeds: limits and ratios by hand", T, float, double) {
 }
 
 }  // namespace
+
+TEST_CASE("make_motion_texture on float mocap with subnormal components: a texture, the caller's mode kept") {
+    const auto f = anima::read_bvh<float>(anima_test::bundled("run_cmu_09_01.bvh"));
+    anima::motion_texture_params<float> params;
+    params.texton.m = 60;
+    params.texton.overlap = 30;
+    REQUIRE(anima_test::gradual_underflow());
+    const auto t = anima::make_motion_texture(f, 300, params);
+    CHECK(anima_test::gradual_underflow());
+    CHECK(t.motion.frames() == 300);
+    bool finite = true;
+    for (const auto& q : t.motion.rotations()) finite = finite && q.coeffs().allFinite();
+    CHECK(finite);
+    const std::vector<anima::clip<float>> clips{f};
+    CHECK(anima::make_motion_texture(clips, 300, params).motion.frames() == 300);
+    CHECK(anima_test::gradual_underflow());
+}

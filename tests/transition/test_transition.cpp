@@ -641,6 +641,17 @@ TEST_CASE("float motion with subnormal components: the transition flushes them i
                                            bad),
                     anima::invalid_argument);
     CHECK(gradual());
+    // The other whole-clip functions of the module hold a guard too.
+    const auto roles = anima::joint_roles(f.skeleton());
+    CHECK(anima::classify_motion(f, roles).type == anima::classify_motion(run<double>(), roles).type);
+    CHECK(gradual());
+    const auto faded = anima::crossfade(f, 60, f, 20, 0.2f);
+    const auto inert = anima::inertialize(f, 60, f, 20, 0.1f);
+    CHECK(gradual());
+    bool finite = true;
+    for (const auto* c : {&faded.motion, &inert.motion})
+        for (const auto& q : c->rotations()) finite = finite && q.coeffs().allFinite();
+    CHECK(finite);
 }
 
 TEST_CASE("per-joint methods: fingers lerp, large turns squad, the rest slerp; overrides") {

@@ -12,6 +12,7 @@
 
 #include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/ik/clip_ik.hpp>
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>
@@ -364,6 +365,7 @@ plant_feet_result<T> plant_feet_checked(const clip<T>& c, const contact_set<T>& 
 /// joints) or bad parameters.
 template <class T>
 plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts, const plant_feet_params<T>& params) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     detail::check_plant_feet(c, contacts, params);
     return detail::plant_feet_checked(c, contacts, params, static_cast<const std::vector<detail::foot_points<T>>*>(nullptr));
 }
@@ -373,6 +375,7 @@ plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts
 /// are measured once, for both.
 template <class T>
 plant_feet_result<T> plant_feet(const clip<T>& c, const plant_feet_params<T>& params = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     std::vector<detail::foot_points<T>> measured;
     const contact_set<T> contacts = detail::find_contacts_measured(c, params.contacts, measured);
     detail::check_plant_feet(c, contacts, params);

@@ -15,6 +15,7 @@
 
 #include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/core/text.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/figure.hpp>
@@ -420,6 +421,7 @@ contact_set<T> find_contacts_measured(const clip<T>& c, const contact_params<T>&
 /// or bad thresholds.
 template <class T>
 contact_set<T> find_contacts(const clip<T>& c, const contact_params<T>& params = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     std::vector<detail::foot_points<T>> measured;
     return detail::find_contacts_measured(c, params, measured);
 }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/frame_distance.hpp>
 #include <anima/motion/frame_features.hpp>
@@ -170,6 +171,7 @@ symmetry_result<typename Derived::Scalar> symmetry_scores(const Eigen::MatrixBas
                                                           typename Derived::Scalar frame_time,
                                                           const symmetry_params<typename Derived::Scalar>& params = {}) {
     using T = typename Derived::Scalar;
+    const flush_denormals guard;  // squares of mocap's tiny angles are subnormal in float
     detail::check_symmetry_params(params.radius, params.smoothness, params.candidate_radius, params.min_pairs,
                                   "anima::symmetry_scores");
     const auto distance = make_frame_distance(dofs, frame_time, params.distance);
@@ -224,6 +226,7 @@ symmetry_result<typename Derived::Scalar> symmetry_scores(const Eigen::MatrixBas
 template <class T>
 symmetry_result<T> symmetry_scores(const clip<T>& c, const symmetry_params<T>& params = {},
                                    const frame_feature_params& features = {}) {
+    const flush_denormals guard;  // for the features too
     return symmetry_scores(frame_features(c, features), c.frame_time(), params);
 }
 

@@ -31,6 +31,7 @@
 
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/core/stopwatch.hpp>
 #include <anima/core/random.hpp>
 #include <anima/ik/plant_feet.hpp>
@@ -405,6 +406,7 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
 template <class T>
 motion_texture<T> make_motion_texture(const clip<T>& c, std::size_t frames, const motion_texture_params<T>& params = {}) {
     if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     return patch_texton(make_texton(c, params.texton), frames, params);
 }
 
@@ -416,6 +418,7 @@ template <class T>
 motion_texture<T> make_motion_texture(const std::vector<clip<T>>& clips, std::size_t frames,
                                       const motion_texture_params<T>& params = {}) {
     if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     return patch_texton(make_texton(clips, params.texton), frames, params);
 }
 

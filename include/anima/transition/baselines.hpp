@@ -9,6 +9,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/resample.hpp>
 #include <anima/rotation/exp_log.hpp>
@@ -87,6 +88,7 @@ joined_clip<T> direct_cut(const clip<T>& a, std::size_t trigger, const clip<T>& 
 template <class T>
 joined_clip<T> crossfade(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start, T duration,
                          std::optional<signed_axis> up = std::nullopt) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     if (!(duration >= T(0)) || !std::isfinite(duration))
         throw invalid_argument("anima::crossfade: duration must be non-negative and finite");
     const clip<T> pb = detail::place_after(a, trigger, b, b_start, up, "anima::crossfade");
@@ -130,6 +132,7 @@ V spring_decay(const V& x0, const V& v0, T halflife, T t) {
 template <class T>
 joined_clip<T> inertialize(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start, T halflife,
                            std::optional<signed_axis> up = std::nullopt) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     using vec3 = Eigen::Matrix<T, 3, 1>;
     using quat = Eigen::Quaternion<T>;
     if (!(halflife > T(0)) || !std::isfinite(halflife))

@@ -15,6 +15,7 @@
 
 #include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/contacts.hpp>
 #include <anima/motion/figure.hpp>
@@ -79,6 +80,7 @@ inline void check_classify_params(const classify_params& p) {
 template <class T>
 motion_classification classify_motion(const clip<T>& c, const std::vector<joint_role>& roles,
                                        const classify_params& params = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     detail::check_classify_params(params);
     if (roles.size() != c.joints())
         throw invalid_argument("anima::classify_motion: " + std::to_string(roles.size()) + " roles for " +
