@@ -9,6 +9,9 @@
 // an anima::flush_denormals scope (see docs/rotation.md); without it the
 // float rows were 1.2 to 2.2 times slower (docs/benchmarks.md).
 //
+//   resample             to 30 frames per second
+//   global_positions     every joint's world position in every frame
+//   frame_features       the DOF matrix symmetry and textures compare
 //   classify_motion      the motion class and contact phases of the clip
 //   find_contacts        the feet's contact runs
 //   symmetry_scores      Eq 3-5 on the clip's frame features
@@ -19,6 +22,9 @@
 #include <anima/bvh/reader.hpp>
 #include <anima/ik/plant_feet.hpp>
 #include <anima/motion/contacts.hpp>
+#include <anima/motion/forward_kinematics.hpp>
+#include <anima/motion/frame_features.hpp>
+#include <anima/motion/resample.hpp>
 #include <anima/symmetry/symmetry_scores.hpp>
 #include <anima/texture/motion_texture.hpp>
 #include <anima/transition/baselines.hpp>
@@ -38,6 +44,21 @@ template <class T>
 const anima::clip<T>& run() {
     static const anima::clip<T> c = anima::read_bvh<T>(std::string(ANIMA_BENCH_DATA_DIR) + "/run_cmu_09_01.bvh");
     return c;
+}
+
+template <class T>
+void resample(benchmark::State& state) {
+    for (auto _ : state) benchmark::DoNotOptimize(anima::resample(run<T>(), T(1) / T(30)).rotations().data());
+}
+
+template <class T>
+void positions(benchmark::State& state) {
+    for (auto _ : state) benchmark::DoNotOptimize(anima::global_positions(run<T>()).data());
+}
+
+template <class T>
+void features(benchmark::State& state) {
+    for (auto _ : state) benchmark::DoNotOptimize(anima::frame_features(run<T>()).data());
 }
 
 template <class T>
@@ -88,6 +109,9 @@ void texture(benchmark::State& state) {
     BENCHMARK_TEMPLATE(function, float)->Name("BM_float_mocap<" name ", float>")->Unit(benchmark::unit);   \
     BENCHMARK_TEMPLATE(function, double)->Name("BM_float_mocap<" name ", double>")->Unit(benchmark::unit);
 
+ANIMA_FLOAT_MOCAP(resample, "resample", kMicrosecond)
+ANIMA_FLOAT_MOCAP(positions, "global_positions", kMicrosecond)
+ANIMA_FLOAT_MOCAP(features, "frame_features", kMicrosecond)
 ANIMA_FLOAT_MOCAP(classify, "classify_motion", kMicrosecond)
 ANIMA_FLOAT_MOCAP(contacts, "find_contacts", kMicrosecond)
 ANIMA_FLOAT_MOCAP(symmetry, "symmetry_scores", kMicrosecond)

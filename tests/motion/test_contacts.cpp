@@ -6,7 +6,10 @@
 
 #include <anima/bvh/reader.hpp>
 #include <anima/motion/contacts.hpp>
+#include <anima/motion/forward_kinematics.hpp>
+#include <anima/motion/frame_features.hpp>
 #include <anima/motion/reorient.hpp>
+#include <anima/motion/resample.hpp>
 
 #include <doctest/doctest.h>
 
@@ -285,4 +288,14 @@ TEST_CASE("find_contacts on float mocap with subnormal components: double's cont
     for (std::size_t k = 0; k < cf.airborne.size(); ++k) differ += cf.airborne[k] != cd.airborne[k];
     CHECK(differ <= 1);
     CHECK(static_cast<double>(cf.body_height) == doctest::Approx(cd.body_height).epsilon(1e-5));
+    // The module's other whole-clip functions hold a guard of their own.
+    const auto positions = anima::global_positions(f);
+    const auto features = anima::frame_features(f);
+    const auto resampled = anima::resample(f, 1.0f / 30);
+    const auto skate = anima::clip_foot_skate(f);
+    CHECK(anima_test::gradual_underflow());
+    CHECK((positions.cast<double>() - anima::global_positions(d)).cwiseAbs().maxCoeff() < 1e-3);
+    CHECK((features.cast<double>() - anima::frame_features(d)).cwiseAbs().maxCoeff() < 1e-3);
+    CHECK(resampled.frames() == anima::resample(d, 1.0 / 30).frames());
+    CHECK(std::isfinite(skate.mean));
 }

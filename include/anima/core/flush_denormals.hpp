@@ -24,10 +24,10 @@ namespace anima {
 /// subnormal results to zero and reads subnormal operands as zero (x86 SSE:
 /// MXCSR's FTZ and DAZ bits; AArch64: FPCR's FZ bit). The previous mode is
 /// restored when it goes. Elsewhere it does nothing (`supported` is false).
-/// The whole-clip functions (make_transition, make_transition_into,
-/// variable_timing, classify_motion, crossfade, inertialize, find_contacts,
-/// plant_feet, symmetry_scores, make_motion_texture) hold one; put one
-/// around a loop of your own that runs float rotations of real motion
+/// The whole-clip functions (docs/rotation.md lists them: resampling,
+/// positions, features, transitions, contacts, planting, symmetry scores,
+/// textures) hold one; per-frame and per-rotation functions do not, so put
+/// one around a loop of your own that runs float rotations of real motion
 /// capture. Callbacks called inside the scope run in its mode.
 class flush_denormals {
 public:

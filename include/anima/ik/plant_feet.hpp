@@ -199,6 +199,7 @@ T fade_out(T s) {
 /// solved one by at most the limit's angle.
 template <class T>
 void limit_joint_speeds(clip<T>& planted, const clip<T>& recorded, const std::vector<T>& limits) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     for (std::size_t j = 0; j < planted.joints(); ++j) {
         bool changed = false;
         for (std::size_t f = 0; f < planted.frames() && !changed; ++f)
@@ -405,6 +406,7 @@ bool has_feet_to_plant(const clip<T>& c, const plant_feet_params<T>& params = {}
 template <class T>
 std::size_t plant_feet_in_ranges(clip<T>& c, std::vector<frame_interval> ranges, plant_feet_params<T> params,
                                  const std::vector<T>& limits) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     params.ranges = std::move(ranges);
     if (params.ranges.empty() || !has_feet_to_plant(c, params)) return 0;
     if (params.joint_speed_limits.empty()) params.joint_speed_limits = limits;

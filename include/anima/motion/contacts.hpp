@@ -484,6 +484,7 @@ skate_summary<T> foot_skate(const contact_set<T>& contacts, std::size_t first = 
 namespace detail {
 template <class T>
 skate_summary<T> clip_foot_skate(const std::vector<const clip<T>*>& clips, std::optional<signed_axis> up) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     contact_params<T> p;
     p.up = up;
     p.use_speed = false;

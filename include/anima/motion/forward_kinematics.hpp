@@ -3,6 +3,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 
 #include <Eigen/Core>
@@ -90,6 +91,7 @@ T lowest_along(const clip<T>& c, const Eigen::Matrix<T, 3, 1>& direction) {
 /// row f = (x0, y0, z0, x1, y1, z1, ...) of frame f.
 template <class T>
 Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> global_positions(const clip<T>& c) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     const std::size_t n = c.joints();
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> out(static_cast<Eigen::Index>(c.frames()),
                                                          static_cast<Eigen::Index>(3 * n));

@@ -6,6 +6,7 @@
 // rather than dropping keeps the DOF view's 3-column joint blocks.
 #pragma once
 
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/dof_view.hpp>
 #include <anima/motion/figure.hpp>
@@ -30,6 +31,7 @@ struct frame_feature_params {
 template <class T>
 Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frame_features(const clip<T>& c, const dof_layout<T>& layout,
                                                                 const frame_feature_params& params = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> m = to_dof_matrix(c, layout);
     if (params.root_ground_translation) return m;
     const signed_axis up = params.up ? *params.up : guess_up_axis(c.skeleton()).up;

@@ -4,6 +4,7 @@
 
 #include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/rotation/slerp.hpp>
 
@@ -30,6 +31,7 @@ std::size_t resampled_frame(std::size_t f, T source_frame_time, const clip<T>& r
 /// keeps its frames.
 template <class T>
 clip<T> resample(const clip<T>& c, T frame_time) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     check_positive("anima::resample", "frame time", frame_time);
     if (c.frames() < 2) {
         clip<T> out = c;

@@ -7,6 +7,7 @@
 
 #include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/figure.hpp>
 
@@ -60,6 +61,7 @@ struct resequence_params {
 /// anima::invalid_argument for an index outside the source (naming it).
 template <class T>
 clip<T> resequence(const clip<T>& source, const std::vector<std::size_t>& indices, const resequence_params& params = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     for (std::size_t k = 0; k < indices.size(); ++k)
         if (indices[k] >= source.frames())
             throw invalid_argument("anima::resequence: index " + std::to_string(k) + " is frame " +

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/ik/plant_feet.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/resequence.hpp>
@@ -45,6 +46,7 @@ struct rendered_stream {
 template <class T>
 rendered_stream<T> render_stream(const clip<T>& source, const std::vector<std::size_t>& stream,
                                  const std::vector<std::size_t>& events, const render_stream_params<T>& params = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     for (std::size_t e = 0; e < events.size(); ++e)
         if (events[e] >= stream.size())
             throw invalid_argument("anima::render_stream: event " + std::to_string(e) + " is output frame " +

@@ -21,6 +21,7 @@
 #include <anima/core/check_argument.hpp>
 #include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/dof_view.hpp>
 #include <anima/poisson/dst_poisson.hpp>
@@ -291,6 +292,7 @@ smoothed_motion<typename Derived::Scalar> smooth_seams(const Eigen::MatrixBase<D
 template <class T>
 smoothed_clip<T> smooth_seams(const clip<T>& c, const std::vector<std::size_t>& seams,
                               const seam_smoothing_params<T>& prm = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     const auto layout = make_dof_layout(c);
     const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> m = to_dof_matrix(c, layout);
     smoothed_motion<T> s = smooth_seams(m, seams, prm);

@@ -358,6 +358,7 @@ void smooth_texture_seams(motion_texture<T>& out, const motion_texton<T>& texton
 template <class T>
 motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frames,
                                const motion_texture_params<T>& params = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     if (frames == 0) throw invalid_argument("anima::patch_texton: the texture needs at least one frame (N = 0)");
     stopwatch clock;
     motion_texture<T> out;

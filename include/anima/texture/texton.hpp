@@ -33,6 +33,7 @@
 
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/flush_denormals.hpp>
 #include <anima/core/stopwatch.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/dof_view.hpp>
@@ -743,6 +744,7 @@ motion_texton<T> make_texton_of(const std::vector<const clip<T>*>& clips, const 
 /// shrinks m for short clips), or bad distance or cut parameters.
 template <class T>
 motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     return detail::make_texton_of(std::vector<const clip<T>*>{&c}, params);
 }
 
@@ -757,6 +759,7 @@ motion_texton<T> make_texton(const clip<T>& c, const texton_params<T>& params = 
 /// skeleton: its bone lengths, whatever the other clips' are.
 template <class T>
 motion_texton<T> make_texton(const std::vector<clip<T>>& clips, const texton_params<T>& params = {}) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     std::vector<const clip<T>*> pointers;
     for (const clip<T>& c : clips) pointers.push_back(&c);
     return detail::make_texton_of(pointers, params);

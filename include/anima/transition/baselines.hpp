@@ -72,6 +72,7 @@ clip<T> place_after(const clip<T>& a, std::size_t trigger, const clip<T>& b_in, 
 template <class T>
 joined_clip<T> direct_cut(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start = 0,
                           std::optional<signed_axis> up = std::nullopt) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     const clip<T> pb = detail::place_after(a, trigger, b, b_start, up, "anima::direct_cut");
     joined_clip<T> out;
     out.motion = a.slice(0, trigger + 1);
