@@ -18,6 +18,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -44,13 +45,22 @@ struct texture_options {
     CLI::Option *m_opt = nullptr, *overlap_opt = nullptr, *first_opt = nullptr;
 };
 
+/// The plot's colours, for its pixels and for the SVG's legend and colour bar.
+using rgb_colour = std::array<unsigned char, 3>;
+constexpr rgb_colour viridis[] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+constexpr rgb_colour m1_colour{40, 160, 70}, m2_colour{40, 90, 200}, overlap_colour{240, 140, 20}, seam_colour{230, 20, 20};
+
+std::string css(const rgb_colour& c) {
+    return "rgb(" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
+}
+
 /// Viridis-like colour map, t in [0, 1].
 void colour(double t, unsigned char* rgb) {
-    static const double stops[][3] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
     t = std::clamp(t, 0.0, 1.0) * 4;
     const int i = std::min(3, static_cast<int>(t));
     const double u = t - i;
-    for (int k = 0; k < 3; ++k) rgb[k] = static_cast<unsigned char>(std::lround(stops[i][k] * (1 - u) + stops[i + 1][k] * u));
+    for (int k = 0; k < 3; ++k)
+        rgb[k] = static_cast<unsigned char>(std::lround(viridis[i][k] * (1 - u) + viridis[i + 1][k] * u));
 }
 
 /// The input (top) and the texture (bottom) as DOF x frame images, one row
@@ -128,21 +138,20 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
     };
     draw(a, n_in, img.in_width, strip);
     draw(b, n_out, width, img.texture_top());
-    const unsigned char green[3] = {40, 160, 70}, blue[3] = {40, 90, 200}, orange[3] = {240, 140, 20}, red[3] = {230, 20, 20};
     const auto x_of = [&](std::size_t frame) { return static_cast<int>(static_cast<double>(frame) * scale); };
     const std::size_t m = t.texton.m;
     for (std::size_t i = 0, first = 0; i < inputs.size(); first += inputs[i].frames(), ++i) {
         const std::size_t last = first + inputs[i].frames() - 1;
-        fill(x_of(first), x_of(first + m - 1), 0, strip, green);
-        fill(x_of(last + 1 - m), x_of(last), 0, strip, blue);
+        fill(x_of(first), x_of(first + m - 1), 0, strip, m1_colour.data());
+        fill(x_of(last + 1 - m), x_of(last), 0, strip, m2_colour.data());
     }
     for (const auto& [first, last] : t.overlap_spans)
-        fill(x_of(first), x_of(last), img.texture_top() - strip, img.texture_top(), orange);
+        fill(x_of(first), x_of(last), img.texture_top() - strip, img.texture_top(), overlap_colour.data());
     const auto crossings = anima::seam_crossings(t.texton, t.stream, anima::seam_mark::cut);
     for (std::size_t i = 0; i < shown.size(); ++i) {
         const std::size_t r = static_cast<std::size_t>(shown[i]) / 3;
         const int y = img.texture_top() + static_cast<int>(i) * row_h;
-        for (std::size_t k : crossings[r]) fill(x_of(k), x_of(k), y, y + row_h, red);
+        for (std::size_t k : crossings[r]) fill(x_of(k), x_of(k), y, y + row_h, seam_colour.data());
     }
     return img;
 }
@@ -204,14 +213,14 @@ std::string plot_svg(const plot_image& img, const std::string& name, const std::
     image_panel(t.motion.frames(), img.texture_top() - plot_image::strip,
                 "the texture (" + std::to_string(t.motion.frames()) + " frames)", "texture");
     colour_bar(svg, left + w + 24, in.top + strip, panel, "viridis",
-               {"rgb(68,1,84)", "rgb(59,82,139)", "rgb(33,145,140)", "rgb(94,201,98)", "rgb(253,231,37)"},
+               {css(viridis[0]), css(viridis[1]), css(viridis[2]), css(viridis[3]), css(viridis[4])},
                {{"the DOF's", 9}, {"largest value", 21}, {"(per row)", panel / 2 + 4}, {"smallest value", panel - 12},
                 {several ? "in the inputs" : "in the input", panel}});
     const std::string of_each = several ? " of each" : "";
-    chart.legend({{"rgb(40,160,70)", "M1: first " + std::to_string(t.texton.m) + " frames" + of_each, mark::box},
-                  {"rgb(40,90,200)", "M2: last " + std::to_string(t.texton.m) + " frames" + of_each, mark::box},
-                  {"rgb(240,140,20)", "pass through the overlap", mark::box},
-                  {"rgb(230,20,20)", "graph-cut seam of the row", mark::box}});
+    chart.legend({{css(m1_colour), "M1: first " + std::to_string(t.texton.m) + " frames" + of_each, mark::box},
+                  {css(m2_colour), "M2: last " + std::to_string(t.texton.m) + " frames" + of_each, mark::box},
+                  {css(overlap_colour), "pass through the overlap", mark::box},
+                  {css(seam_colour), "graph-cut seam of the row", mark::box}});
     return chart.str();
 }
 
