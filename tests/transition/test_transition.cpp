@@ -6,6 +6,7 @@
 // Heap allocations are counted around a call: this comes before any header
 // that includes Eigen.
 #include "../heap_count.hpp"
+#include "../test_support.hpp"
 
 #include <anima/bvh/reader.hpp>
 #include <anima/core/constants.hpp>
@@ -615,11 +616,7 @@ TEST_CASE("float motion with subnormal components: the transition flushes them i
     for (const auto& q : f.rotations())
         for (int i = 0; i < 4; ++i) subnormal += std::fpclassify(q.coeffs()[i]) == FP_SUBNORMAL;
     REQUIRE(subnormal > 0);
-    const auto gradual = [] {
-        volatile float smallest = std::numeric_limits<float>::min();
-        volatile float half = smallest * 0.5f;
-        return half > 0.0f;
-    };
+    const auto gradual = anima_test::gradual_underflow;
     REQUIRE(gradual());
     anima::transition_params params;
     params.timing.every_joint = false;

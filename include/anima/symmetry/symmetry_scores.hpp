@@ -226,7 +226,6 @@ symmetry_result<typename Derived::Scalar> symmetry_scores(const Eigen::MatrixBas
 template <class T>
 symmetry_result<T> symmetry_scores(const clip<T>& c, const symmetry_params<T>& params = {},
                                    const frame_feature_params& features = {}) {
-    const flush_denormals guard;  // for the features too
     return symmetry_scores(frame_features(c, features), c.frame_time(), params);
 }
 

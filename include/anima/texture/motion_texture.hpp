@@ -407,7 +407,6 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
 template <class T>
 motion_texture<T> make_motion_texture(const clip<T>& c, std::size_t frames, const motion_texture_params<T>& params = {}) {
     if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
-    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     return patch_texton(make_texton(c, params.texton), frames, params);
 }
 
@@ -419,7 +418,6 @@ template <class T>
 motion_texture<T> make_motion_texture(const std::vector<clip<T>>& clips, std::size_t frames,
                                       const motion_texture_params<T>& params = {}) {
     if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
-    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     return patch_texton(make_texton(clips, params.texton), frames, params);
 }
 
