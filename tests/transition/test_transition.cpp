@@ -1554,8 +1554,11 @@ void check_blend_many() {
     std::vector<T> t;
     for (int k = 1; k < 40; ++k) t.push_back(anima::interpolation_parameter(T(k), T(40), anima::easing::ease_in_out));
     for (T u : {T(0), T(1), T(0.5), T(-0.25), T(1.5), T(0.3)}) t.push_back(u);
-    std::vector<quat> got(t.size());
-    int differ = 0;
+    // Every other pair writes at a stride of 3, as into one joint's frames
+    // of a clip; the quaternions between the results must stay as they were.
+    const quat untouched(T(7), T(7), T(7), T(7));
+    std::vector<quat> got(3 * t.size());
+    int differ = 0, overwritten = 0;
     for (int i = 0; i < 200; ++i) {
         const quat a = random_q();
         // Far apart, nearly identical, identical, the other hemisphere, off unit length.
@@ -1563,14 +1566,23 @@ void check_blend_many() {
         quat b = i % 7 == 6 ? random_q() : near(a, angles[i % 6]);
         if (i % 5 == 4) b.coeffs() = -b.coeffs();
         if (i % 11 == 10) b.coeffs() *= T(1.01);
-        anima::detail::slerp_many(a, b, t.data(), t.size(), got.data());
-        for (std::size_t k = 0; k < t.size(); ++k)
-            differ += !same_bits(got[k].coeffs(), anima::slerp(a, b, t[k]).coeffs());
+        const std::size_t stride = i % 2 ? 3 : 1;
+        const auto check_writes = [&](const auto& expected) {
+            for (std::size_t k = 0; k < t.size(); ++k) {
+                differ += !same_bits(got[k * stride].coeffs(), expected(t[k]).coeffs());
+                for (std::size_t m = 1; m < stride; ++m)
+                    overwritten += !same_bits(got[k * stride + m].coeffs(), untouched.coeffs());
+            }
+        };
+        std::fill(got.begin(), got.end(), untouched);
+        anima::detail::slerp_many(a, b, t.data(), t.size(), got.data(), stride);
+        check_writes([&](T u) { return anima::slerp(a, b, u); });
         const quat s1 = near(a, 0.3), s2 = near(b, 0.2);
-        anima::detail::squad_many(a, b, s1, s2, t.data(), t.size(), got.data());
-        for (std::size_t k = 0; k < t.size(); ++k)
-            differ += !same_bits(got[k].coeffs(), anima::squad(a, b, s1, s2, t[k]).coeffs());
+        std::fill(got.begin(), got.end(), untouched);
+        anima::detail::squad_many(a, b, s1, s2, t.data(), t.size(), got.data(), stride);
+        check_writes([&](T u) { return anima::squad(a, b, s1, s2, u); });
     }
+    CHECK(overwritten == 0);
     CHECK(differ == 0);
 }
 

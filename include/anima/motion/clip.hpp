@@ -19,6 +19,10 @@
 
 namespace anima {
 
+namespace detail {
+struct clip_storage;
+}
+
 template <class T>
 class clip {
 public:
@@ -159,6 +163,8 @@ public:
     const std::vector<vector3>& translations() const noexcept { return translations_; }
 
 private:
+    friend struct detail::clip_storage;
+
     std::size_t index(std::size_t f, std::size_t j) const {
         check_frame(f, "anima::clip");
         if (j >= skeleton_.size())
@@ -178,5 +184,20 @@ private:
     std::vector<quaternion> rotations_;
     std::vector<vector3> translations_;
 };
+
+namespace detail {
+
+/// The library's own write access to a clip's rotations, for blends that
+/// give unit quaternions by construction (slerp, squad, normalised lerps)
+/// and write a joint's frames in place, at stride joints(), without
+/// set_rotation's check of each one.
+struct clip_storage {
+    template <class T>
+    static Eigen::Quaternion<T>* rotations(clip<T>& c) noexcept {
+        return c.rotations_.data();
+    }
+};
+
+}  // namespace detail
 
 }  // namespace anima

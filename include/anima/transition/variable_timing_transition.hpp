@@ -121,7 +121,6 @@ struct transition_workspace {
     skeleton<T> roles_of;                 ///< the skeleton `roles` were found for
     std::vector<joint_role> roles;        ///< joint_roles(roles_of)
     std::vector<T> h, h_linear;           ///< the interpolation parameter at each in-between frame
-    std::vector<Eigen::Quaternion<T>> blend;  ///< one joint's in-between rotations
     detail::rates_scratch<T> rates;
     detail::root_fit<T> root_fit;
 };
@@ -256,23 +255,28 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
     out.frames.resize(steps - 1);
     ws.h.resize(steps - 1);
     ws.h_linear.resize(steps - 1);
-    ws.blend.resize(steps - 1);
     for (std::size_t k = 1; k < steps; ++k) {
         const T t = dt * static_cast<T>(k);
         ws.h[k - 1] = interpolation_parameter(t, out.duration, out.parameter);
         ws.h_linear[k - 1] = interpolation_parameter(t, out.duration, easing::linear);
     }
     // Joint by joint: a joint blends the same two rotations in every frame.
-    // Placed B differs from B only at the root.
+    // Placed B differs from B only at the root. The blends write a joint's
+    // frames straight into the clip, whose rows are frames.
     const std::size_t next = b_start + 1 < b.frames() ? b_start + 1 : b_start;
     for (std::size_t j = 0; j < nj; ++j) {
         const quat& q1 = a.rotation(trigger, j);
         const quat b_first = j == 0 ? out.placement.rotation(b.rotation(b_start, 0)) : b.rotation(b_start, j);
         const quat q2 = align_hemisphere(b_first, q1);
+        quat* const column = clip_storage::rotations(out.frames) + j;  // frame k at column[k * nj]
         switch (out.methods[j]) {
             case interpolation::lerp: {
                 const std::vector<T>& hs = roles[j] == joint_role::finger ? ws.h_linear : ws.h;
-                for (std::size_t k = 0; k + 1 < steps; ++k) ws.blend[k] = anima::lerp(q1, q2, hs[k]);
+                // Normalised: q2 is on q1's side, so the blend is at least 1/sqrt(2) long.
+                for (std::size_t k = 0; k + 1 < steps; ++k) {
+                    const quat q = anima::lerp(q1, q2, hs[k]);
+                    column[k * nj] = quat(q.coeffs() * (T(1) / q.norm()));
+                }
                 break;
             }
             case interpolation::squad: {
@@ -282,14 +286,13 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
                 const quat& before = a.rotation(trigger > 0 ? trigger - 1 : trigger, j);
                 const quat after = j == 0 ? out.placement.rotation(b.rotation(next, 0)) : b.rotation(next, j);
                 const quat s1 = squad_control_point(before, q1, b_first), s2 = squad_control_point(q1, b_first, after);
-                squad_many(q1, b_first, s1, s2, ws.h.data(), steps - 1, ws.blend.data());
+                squad_many(q1, b_first, s1, s2, ws.h.data(), steps - 1, column, nj);
                 break;
             }
             default:
-                slerp_many(q1, q2, ws.h.data(), steps - 1, ws.blend.data());
+                slerp_many(q1, q2, ws.h.data(), steps - 1, column, nj);
                 break;
         }
-        out.frames.set_joint_rotations(j, 0, ws.blend.data(), steps - 1);
         if (j > 0 && a.skeleton().translation_slot(j) >= 0) {
             const vec3 &from = a.translation(trigger, j), &to = b.translation(b_start, j);
             for (std::size_t k = 0; k + 1 < steps; ++k)

@@ -21,12 +21,15 @@ namespace anima::detail {
 /// Parameters worked on side by side.
 inline constexpr std::size_t blend_group = 4;
 
-/// Runs group(u, results) on the parameters t[0 .. n) blend_group at a time,
-/// a last partial group padded with its last parameter, and stores the
-/// results in out; single(t) does a parameter outside [0, 1] (where the fast
-/// paths do not hold) and, when `fast` is false, every parameter.
+/// Runs group(u, results, stride) on the parameters t[0 .. n) blend_group
+/// at a time, a last partial group padded with its last parameter, and
+/// stores the results at out[0], out[stride], ... (one joint's frames in a
+/// clip's storage have the joint count as stride); single(t) does a
+/// parameter outside [0, 1] (where the fast paths do not hold) and, when
+/// `fast` is false, every parameter.
 template <class T, class Group, class Single>
-void blend_groups(const T* t, std::size_t n, bool fast, Eigen::Quaternion<T>* out, Group group, Single single) {
+ANIMA_FORCE_INLINE void blend_groups(const T* t, std::size_t n, bool fast, Eigen::Quaternion<T>* out,
+                                     std::size_t stride, Group group, Single single) {
     for (std::size_t k = 0; k < n; k += blend_group) {
         const std::size_t m = std::min(blend_group, n - k);
         T u[blend_group];
@@ -36,26 +39,26 @@ void blend_groups(const T* t, std::size_t n, bool fast, Eigen::Quaternion<T>* ou
             inside = inside && u[i] * (T(1) - u[i]) >= T(0);
         }
         if (!inside) {
-            for (std::size_t i = 0; i < m; ++i) out[k + i] = single(t[k + i]);
+            for (std::size_t i = 0; i < m; ++i) out[(k + i) * stride] = single(t[k + i]);
             continue;
         }
         if (m == blend_group) {
-            group(u, out + k);  // straight into place: a copy of a variable count becomes a slow memcpy
+            group(u, out + k * stride, stride);  // straight into place: a copy of a variable count becomes a slow memcpy
             continue;
         }
         Eigen::Quaternion<T> results[blend_group];
-        group(u, results);
-        for (std::size_t i = 0; i < m; ++i) out[k + i] = results[i];
+        group(u, results, std::size_t{1});
+        for (std::size_t i = 0; i < m; ++i) out[(k + i) * stride] = results[i];
     }
 }
 
-/// out[k] = slerp(a, b, t[k]) for k < n: slerp4's fast paths (nearly
+/// out[k * stride] = slerp(a, b, t[k]) for k < n: slerp4's fast paths (nearly
 /// identical inputs or not) with the pair's part taken out of the loop. What
 /// slerp4 would send to its general path (inputs far from unit length, t
 /// outside [0, 1]) goes to slerp itself.
 template <class T>
 void slerp_many(const Eigen::Quaternion<T>& a_in, const Eigen::Quaternion<T>& b_in, const T* t, std::size_t n,
-                Eigen::Quaternion<T>* out) {
+                Eigen::Quaternion<T>* out, std::size_t stride = 1) {
     const quat_lanes<T> a = to_lanes(load(a_in)), b = to_lanes(load(b_in));
     T na, nb, d;
     dot3_lanes(a, b, na, nb, d);
@@ -68,13 +71,13 @@ void slerp_many(const Eigen::Quaternion<T>& a_in, const Eigen::Quaternion<T>& b_
     const bool near = -y <= identical;
     const slerp_weight_keys<T, 1> weight_keys = prepare_slerp_weights<T, 1>({cos_theta});  // the same at every t
     blend_groups(
-        t, n, fast, out,
-        [&](const T* u, Eigen::Quaternion<T>* results) {
+        t, n, fast, out, stride,
+        [&](const T* u, Eigen::Quaternion<T>* results, std::size_t step) {
             if (near) {
                 for (std::size_t i = 0; i < blend_group; ++i) {
                     T k0, k1;
                     near_identity_weights(u[i], y, k0, k1);
-                    results[i] = store<Eigen::Quaternion<T>>(from_lanes(blend_lanes(a, k0 * ga, b, k1 * gbs)));
+                    results[i * step] = store<Eigen::Quaternion<T>>(from_lanes(blend_lanes(a, k0 * ga, b, k1 * gbs)));
                 }
                 return;
             }
@@ -84,18 +87,19 @@ void slerp_many(const Eigen::Quaternion<T>& a_in, const Eigen::Quaternion<T>& b_
                 // slerp4's correction of the result's length, then the blend.
                 const T g = T(1.5) - T(0.5) * (k0[i][0] * k0[i][0] + k1[i][0] * k1[i][0] +
                                                T(2) * k0[i][0] * k1[i][0] * cos_theta);
-                results[i] =
+                results[i * step] =
                     store<Eigen::Quaternion<T>>(from_lanes(blend_lanes(a, k0[i][0] * g * ga, b, k1[i][0] * g * gbs)));
             }
         },
         [&](T u) { return slerp(a_in, b_in, u); });
 }
 
-/// out[k] = squad(q1, q2, s1, s2, t[k]) for k < n: squad4's fast path with
+/// out[k * stride] = squad(q1, q2, s1, s2, t[k]) for k < n: squad4's fast path with
 /// the keys' part taken out of the loop; the rest goes to squad itself.
 template <class T>
 void squad_many(const Eigen::Quaternion<T>& q1_in, const Eigen::Quaternion<T>& q2_in, const Eigen::Quaternion<T>& s1_in,
-                const Eigen::Quaternion<T>& s2_in, const T* t, std::size_t n, Eigen::Quaternion<T>* out) {
+                const Eigen::Quaternion<T>& s2_in, const T* t, std::size_t n, Eigen::Quaternion<T>* out,
+                std::size_t stride = 1) {
     const quat_lanes<T> lq1 = to_lanes(load(q1_in)), lq2 = to_lanes(load(q2_in)), ls1 = to_lanes(load(s1_in)),
                         ls2 = to_lanes(load(s2_in));
     T n1, n2, m1, m2, dq, ds_given;
@@ -110,8 +114,8 @@ void squad_many(const Eigen::Quaternion<T>& q1_in, const Eigen::Quaternion<T>& q
     const T keys = dq * g1 * g2, controls = ds * h1 * h2 * side;
     const slerp_weight_keys<T, 2> weight_keys = prepare_slerp_weights<T, 2>({keys, controls});  // the same at every t
     blend_groups(
-        t, n, fast, out,
-        [&](const T* u, Eigen::Quaternion<T>* results) {
+        t, n, fast, out, stride,
+        [&](const T* u, Eigen::Quaternion<T>* results, std::size_t step) {
             T k0[blend_group][2], k1[blend_group][2];
             for (std::size_t i = 0; i < blend_group; ++i) slerp_weights<T, 2>(weight_keys, u[i], k0[i], k1[i]);
             quat4<T> a[blend_group], b[blend_group];
@@ -120,7 +124,7 @@ void squad_many(const Eigen::Quaternion<T>& q1_in, const Eigen::Quaternion<T>& q
                 b[i] = from_lanes(blend_lanes(ls1, k0[i][1] * h1, ls2, k1[i][1] * h2));
             }
             for (std::size_t i = 0; i < blend_group; ++i)
-                results[i] = store<Eigen::Quaternion<T>>(
+                results[i * step] = store<Eigen::Quaternion<T>>(
                     slerp4(a[i], b[i], T(2) * u[i] * (T(1) - u[i]), arc::as_given, "anima::squad"));
         },
         [&](T u) { return squad(q1_in, q2_in, s1_in, s2_in, u); });
