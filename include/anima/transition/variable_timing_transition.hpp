@@ -262,9 +262,10 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
     }
     // Joint by joint: a joint blends the same two rotations in every frame.
     // Placed B differs from B only at the root. The blends write a joint's
-    // frames straight into the clip, whose rows are frames.
+    // frames straight into the clip, whose rows are frames (none when the
+    // transition is one step: the clip's storage is then empty).
     const std::size_t next = b_start + 1 < b.frames() ? b_start + 1 : b_start;
-    for (std::size_t j = 0; j < nj; ++j) {
+    for (std::size_t j = 0; steps > 1 && j < nj; ++j) {
         const quat& q1 = a.rotation(trigger, j);
         const quat b_first = j == 0 ? out.placement.rotation(b.rotation(b_start, 0)) : b.rotation(b_start, j);
         const quat q2 = align_hemisphere(b_first, q1);
