@@ -69,6 +69,8 @@ void run_contacts(const contacts_options& o) {
     anima::contact_params<double> p;
     if (!o.up.empty()) p.up = parse_signed_axis(o.up);
     p.feet = o.feet;
+    if (p.feet.empty() && anima::find_feet(c.skeleton(), p.up ? *p.up : anima::guess_up_axis(c.skeleton()).up).empty())
+        throw failure("'" + o.input + "' has no joint found as a foot (by name or as a lowest leaf): name the feet with --foot");
     const auto s = anima::find_contacts(c, p);
     const auto skate = anima::foot_skate(s);
     if (!o.plot.empty()) write_plot(o.plot, file_name(o.input), s);

@@ -102,7 +102,7 @@ void run_flight(const flight_options& o) {
     constexpr double frame_time = 1.0 / 60.0;
     if (!o.output.empty()) {
         const auto c = anima::flight_clip(problem, r.optimized, in.skeleton, in.metres_per_unit, frame_time);
-        anima::write_bvh(c, o.output);
+        write_text_file(o.output, anima::format_bvh(c));
     }
     std::string page_written;
     if (!o.view.empty()) {

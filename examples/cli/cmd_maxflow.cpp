@@ -29,7 +29,13 @@ void solve(const maxflow_options& o, const std::string& text) {
     const double read_seconds = timer.lap();
 
     // Timed: building the graph and solving, as a program embedding anima would.
-    const auto result = anima::solve_max_flow(problem);
+    const auto result = [&] {
+        try {
+            return anima::solve_max_flow(problem);
+        } catch (const anima::invalid_argument& e) {
+            throw failure("'" + o.input + "': " + e.what());  // an arc whose capacity overflows a node's sum
+        }
+    }();
     const double seconds = timer.lap();
     const std::size_t source_side = result.source_count();
 

@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstddef>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <string>
@@ -302,6 +303,9 @@ void run_animate(const render_options& o, const clip_t& clip, const view_basis& 
 
 void run_render(const render_options& o) {
     check_outputs({{"OUT", &o.output}});
+    std::error_code same_ec;
+    if (std::filesystem::equivalent(o.input, o.output, same_ec))
+        throw failure("OUT '" + o.output + "' is the input clip: render writes an SVG, give it another name");
     const clip_t clip = load_clip(o.input);
     if (clip.empty()) throw failure("'" + o.input + "' has no frames to render");
     const skeleton_t& sk = clip.skeleton();

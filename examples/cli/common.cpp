@@ -46,13 +46,30 @@ document_t load_bvh_document(const std::string& path) {
 
 clip_t load_clip(const std::string& path) { return anima::to_clip(load_bvh_document(path)); }
 
+namespace {
+anima::output_files& run_outputs() {
+    static anima::output_files outputs;
+    return outputs;
+}
+}  // namespace
+
 void write_text_file(const std::string& path, std::string_view text) {
     try {
-        anima::write_file_atomically(path, text);
+        run_outputs().write(path, text);
     } catch (const anima::io_error& e) {
         throw failure(e.what());
     }
 }
+
+void commit_outputs() {
+    try {
+        run_outputs().commit();
+    } catch (const anima::io_error& e) {
+        throw failure(e.what());
+    }
+}
+
+void discard_outputs() noexcept { run_outputs().discard(); }
 
 void check_output(const std::string& path, std::string_view option) {
     try {

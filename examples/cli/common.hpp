@@ -52,11 +52,19 @@ clip_t load_clip(const std::string& path);
 /// cannot be read.
 std::string read_text_file(const std::string& path);
 
-/// Writes text to a file, replacing it atomically (anima::write_file_atomically:
-/// a temporary next to it, renamed into place when complete, so a failed
-/// write leaves an existing file as it was). Throws failure naming the file
-/// and the system's reason when it cannot be written.
+/// Writes text to a file as one of the run's outputs (anima::output_files):
+/// the bytes go to a temporary next to it, and the run's outputs are renamed
+/// into place together by commit_outputs when the command has succeeded, so
+/// a run that fails - in any of its writes or after them - leaves every
+/// existing file as it was. Throws failure naming the file and the system's
+/// reason when it cannot be written.
 void write_text_file(const std::string& path, std::string_view text);
+
+/// Puts the run's outputs in place (main, after the command succeeded).
+void commit_outputs();
+
+/// Removes the temporaries of a failed run's outputs.
+void discard_outputs() noexcept;
 
 /// The last component of a path ("walk.bvh" for "data/walk.bvh").
 std::string file_name(const std::string& path);

@@ -65,10 +65,13 @@ int main(int argc, char** argv) {
     }
     try {
         app.parse(argc, argv);
+        anima_cli::commit_outputs();
     } catch (const CLI::Error& e) {
+        anima_cli::discard_outputs();
         // --help and --version come here too, with exit code 0.
         return app.exit(e) == 0 ? 0 : 2;
     } catch (const std::exception& e) {
+        anima_cli::discard_outputs();
         std::cout.flush();
         // Text quoted from files is escaped where it is quoted; this catches
         // anything else (a path, a system message) with raw bytes in it.

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
@@ -25,8 +26,12 @@
 
 #if defined(__unix__) || defined(__APPLE__)
 #include <csignal>
+#include <fcntl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #define ANIMA_TEST_HAVE_RLIMIT 1
+#define ANIMA_TEST_HAVE_FIFO 1
 #endif
 
 #include "../test_support.hpp"
@@ -52,6 +57,7 @@ std::string slurp(const fs::path& p) {
 std::vector<fs::path> entries(const fs::path& dir) {
     std::vector<fs::path> out;
     for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename());
+    std::sort(out.begin(), out.end());
     return out;
 }
 
@@ -138,6 +144,62 @@ TEST_CASE("write_file_atomically replaces a file and leaves no temporary behind"
     CHECK(entries(dir) == std::vector<fs::path>{"out.txt"});
     fs::remove_all(dir);
 }
+
+TEST_CASE("output_files: every file in place at the commit, or none") {
+    const fs::path dir = scratch_folder("output_files");
+    const std::string a = (dir / "a.bvh").string(), b = (dir / "b.svg").string();
+    anima::write_file_atomically(a, "old a");
+    {
+        // A run that fails after its first write: both stay as they were, no temporary left.
+        anima::output_files out;
+        out.write(a, "new a");
+        CHECK(out.pending() == 1);
+        CHECK(slurp(a) == "old a");
+        CHECK_THROWS_AS(out.write((dir / "missing" / "b.svg").string(), "b"), anima::io_error);
+    }
+    CHECK(slurp(a) == "old a");
+    CHECK(entries(dir) == std::vector<fs::path>{"a.bvh"});
+    {
+        anima::output_files out;
+        out.write(a, "new a");
+        out.write(b, "new b");
+        CHECK(entries(dir).size() == 3);  // a.bvh and the two temporaries
+        out.commit();
+        CHECK(out.pending() == 0);
+    }
+    CHECK(slurp(a) == "new a");
+    CHECK(slurp(b) == "new b");
+    CHECK(entries(dir) == std::vector<fs::path>{"a.bvh", "b.svg"});
+    {
+        anima::output_files out;
+        out.write(a, "newer a");
+        out.discard();
+        out.commit();  // nothing left to commit
+    }
+    CHECK(slurp(a) == "new a");
+    CHECK(entries(dir) == std::vector<fs::path>{"a.bvh", "b.svg"});
+    fs::remove_all(dir);
+}
+
+#ifdef ANIMA_TEST_HAVE_FIFO
+TEST_CASE("a FIFO is written in place, not replaced by a regular file") {
+    const fs::path dir = scratch_folder("fifo");
+    const std::string path = (dir / "out.pipe").string();
+    REQUIRE(mkfifo(path.c_str(), 0600) == 0);
+    // A reader that does not block, so the writer's open succeeds; a few
+    // bytes fit in the pipe's buffer.
+    const int reader = open(path.c_str(), O_RDONLY | O_NONBLOCK);
+    REQUIRE(reader >= 0);
+    anima::write_file_atomically(path, "through the pipe");
+    char got[64] = {};
+    const ssize_t n = read(reader, got, sizeof got - 1);
+    close(reader);
+    CHECK(std::string(got, n > 0 ? static_cast<std::size_t>(n) : 0) == "through the pipe");
+    CHECK(fs::is_fifo(path));
+    CHECK(entries(dir) == std::vector<fs::path>{"out.pipe"});
+    fs::remove_all(dir);
+}
+#endif
 
 #ifdef ANIMA_TEST_HAVE_RLIMIT
 TEST_CASE("a write that fails half way (file size limit) leaves the existing file as it was") {

@@ -583,6 +583,12 @@ TEST_CASE_TEMPLATE("solvers refuse bad goals, poses and parameters naming them",
     auto nan_goal = goals;
     nan_goal[0].position.x() = std::numeric_limits<T>::quiet_NaN();
     CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, nan_goal, q0, pseudo_inverse<T>{}); }), "non-finite"));
+    // Finite, but its squared distance overflows (1e300 in double, 1e30 in float).
+    auto far_goal = goals;
+    far_goal[0].position.y() = std::numeric_limits<T>::max() / T(1e8);
+    CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, far_goal, q0, pseudo_inverse<T>{}); }), "too far out"));
+    far_goal[0].position.y() = std::sqrt(std::numeric_limits<T>::max()) / T(4);  // its square is still finite
+    CHECK_NOTHROW((void)solve_ik(arm, far_goal, q0, pseudo_inverse<T>{}));
     auto bad_joint = goals;
     bad_joint[0].joint = 99;
     CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, bad_joint, q0, pseudo_inverse<T>{}); }), "99"));

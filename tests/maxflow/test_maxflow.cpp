@@ -855,6 +855,25 @@ TEST_CASE("DIMACS: errors name the line") {
     CHECK_THROWS_AS(anima::parse_dimacs_max_flow<double>(head + "a 1 2 inf\na 2 3 1\n"), anima::parse_error);
     CHECK_THROWS_AS(anima::parse_dimacs_max_flow<float>(head + "a 1 2 1e300\na 2 3 1\n"), anima::parse_error);
     CHECK(anima::parse_dimacs_max_flow<double>(head + "a 1 2 +1e3\na 2 3 .5\n").arcs[0].capacity == 1000.0);
+    // The largest value, short, not in 309 digits.
+    try {
+        anima::parse_dimacs_max_flow<double>(head + "a 1 2 1e400\na 2 3 1\n", "f.max");
+        FAIL("no error for 1e400");
+    } catch (const anima::parse_error& e) {
+        CHECK(std::string(e.what()) == "f.max:4: capacity 1e400 is out of the range of the capacity type (largest 1.79769e+308)");
+    }
+}
+
+TEST_CASE("DIMACS: a node's capacities that overflow name the arc, with the file's node ids") {
+    // Two arcs into node 3 whose sum is beyond double.
+    const auto p = anima::parse_dimacs_max_flow<double>("p max 4 3\nn 1 s\nn 2 t\na 1 3 1e308\na 1 3 1e308\na 3 2 1e308\n");
+    try {
+        (void)anima::to_flow_graph(p);
+        FAIL("no error for an overflowing sum");
+    } catch (const anima::invalid_argument& e) {
+        CHECK(std::string(e.what()) ==
+              "anima::to_flow_graph: arc 2 (a 1 3): the sum of a node's capacities overflows the capacity type");
+    }
 }
 
 TEST_CASE("DIMACS: files") {

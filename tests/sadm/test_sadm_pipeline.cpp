@@ -170,6 +170,16 @@ TEST_CASE_TEMPLATE("SADM model save/load: identical synthesis, errors with file:
     };
     CHECK(contains(error_of(0, "anima-sadm 2"), "m.sadm:1: unsupported SADM model version '2'"));
     CHECK(contains(error_of(1, "clamp_limit x"), "m.sadm:2: bad clamp_limit value 'x'"));
+    // Values that are read but do not make a model: on their own line.
+    CHECK(contains(error_of(1, "clamp_limit -1"), "m.sadm:2: clamp_limit must be finite and >= 0"));
+    std::size_t raster_at = 0;
+    while (lines[raster_at].rfind("raster ", 0) != 0) ++raster_at;
+    std::istringstream raster_words(lines[raster_at].substr(7));
+    long raster_rows = 0, raster_cols = 0;
+    raster_words >> raster_rows >> raster_cols;
+    // Half the raster's rows: fewer pixels than the grey PCA's dimension.
+    CHECK(contains(error_of(raster_at, "raster " + std::to_string(raster_rows / 2) + " " + std::to_string(raster_cols)),
+                   "the grey model does not fit the raster of line " + std::to_string(raster_at + 1)));
     std::size_t regressor_at = 0;
     while (lines[regressor_at].rfind("anima-regressor", 0) != 0) ++regressor_at;
     CHECK(contains(error_of(regressor_at, "anima-regressor nonsense 1"), "m.sadm:" + std::to_string(regressor_at + 1) + ":"));

@@ -8,7 +8,9 @@
 //                         same folder and renamed into place only once it is
 //                         complete, so a failed write (disk full, file size
 //                         limit, a missing folder) leaves an existing file as
-//                         it was.
+//                         it was;
+//   output_files          several files written as one: all renamed into
+//                         place once every one is complete, or none.
 // Everything thrown is an anima::io_error naming the file and the reason.
 #pragma once
 
@@ -24,6 +26,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 namespace anima {
 
@@ -97,16 +100,42 @@ inline void check_output_path(const std::string& path, std::string_view what = {
         throw io_error(prefix + "cannot write '" + path + "': '" + folder.string() + "' is not a folder");
 }
 
-/// Writes `content` to `path`, replacing the file: the bytes go to a
-/// temporary file next to it, which is renamed into place once it is
-/// complete and closed. When anything fails the temporary is removed and an
-/// existing file at `path` is left as it was. A replaced file keeps its
-/// permissions. Throws anima::io_error naming the file and the reason.
-inline void write_file_atomically(const std::string& path, std::string_view content) {
+namespace detail {
+
+/// Whether `path` names an existing file that is neither a regular file nor
+/// a folder: a FIFO, a device such as /dev/stdout. Renaming a temporary onto
+/// it would replace the node with a regular file, so it is written in place.
+inline bool is_special_file(const std::string& path) {
     namespace fs = std::filesystem;
-    check_output_path(path);
+    std::error_code ec;
+    const fs::file_status s = fs::status(path, ec);
+    return !ec && s.type() != fs::file_type::not_found && s.type() != fs::file_type::regular &&
+           s.type() != fs::file_type::directory;
+}
+
+/// Writes `content` to the file at `file` (created or truncated); `path` is
+/// the name the messages give. `cleanup` runs before anything is thrown.
+template <class Cleanup>
+void write_bytes(const std::string& file, const std::string& path, std::string_view content, Cleanup cleanup) {
+    const auto fail = [&](const std::string& what, int err) {
+        cleanup();
+        throw io_error(what + errno_reason(err));
+    };
+    errno = 0;
+    file_closer out{std::fopen(file.c_str(), "wb")};
+    if (!out.f) fail("cannot open '" + file + "' for writing" + (file == path ? "" : " (to replace '" + path + "')"), errno);
+    if (!content.empty() && std::fwrite(content.data(), 1, content.size(), out.f) != content.size())
+        fail("error while writing '" + path + "'", errno);
+    if (std::fflush(out.f) != 0) fail("error while writing '" + path + "'", errno);
+    const int closed = std::fclose(out.f);
+    out.f = nullptr;
+    if (closed != 0) fail("error while writing '" + path + "'", errno);
+}
+
+/// `content` in a new temporary file beside `path`, whose name it returns.
+inline std::filesystem::path write_temporary(const std::string& path, std::string_view content) {
+    namespace fs = std::filesystem;
     const fs::path target(path);
-    const fs::path folder = target.parent_path();
     std::random_device entropy;
     std::mt19937_64 bits((static_cast<std::uint64_t>(entropy()) << 32) ^ entropy());
     fs::path temp;
@@ -114,33 +143,101 @@ inline void write_file_atomically(const std::string& path, std::string_view cont
     for (int attempt = 0;; ++attempt) {
         char suffix[32];
         std::snprintf(suffix, sizeof suffix, ".%016llx.tmp", static_cast<unsigned long long>(bits()));
-        temp = folder / ("." + target.filename().string() + suffix);
+        temp = target.parent_path() / ("." + target.filename().string() + suffix);
         if (!fs::exists(temp, ec)) break;
         if (attempt == 16) throw io_error("cannot write '" + path + "': no free temporary file name next to it");
     }
-    const auto fail = [&](const std::string& what, int err) {
-        fs::remove(temp, ec);
-        throw io_error(what + detail::errno_reason(err));
-    };
-    {
-        errno = 0;
-        detail::file_closer out{std::fopen(temp.string().c_str(), "wb")};
-        if (!out.f) fail("cannot open '" + temp.string() + "' for writing (to replace '" + path + "')", errno);
-        if (!content.empty() && std::fwrite(content.data(), 1, content.size(), out.f) != content.size())
-            fail("error while writing '" + path + "'", errno);
-        if (std::fflush(out.f) != 0) fail("error while writing '" + path + "'", errno);
-        const int closed = std::fclose(out.f);
-        out.f = nullptr;
-        if (closed != 0) fail("error while writing '" + path + "'", errno);
-    }
-    const fs::file_status old = fs::status(target, ec);
+    write_bytes(temp.string(), path, content, [&] { fs::remove(temp, ec); });
+    return temp;
+}
+
+/// Renames a complete temporary onto `path`; a replaced file's permissions
+/// carry over. The temporary is removed when the rename fails.
+inline void rename_into_place(const std::filesystem::path& temp, const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status old = fs::status(path, ec);
     if (!ec && fs::is_regular_file(old)) fs::permissions(temp, old.permissions(), ec);
-    fs::rename(temp, target, ec);
+    fs::rename(temp, path, ec);
     if (ec) {
         const std::string reason = ec.message();
         fs::remove(temp, ec);
         throw io_error("cannot replace '" + path + "': " + reason);
     }
 }
+
+}  // namespace detail
+
+/// Writes `content` to `path`, replacing the file: the bytes go to a
+/// temporary file next to it, which is renamed into place once it is
+/// complete and closed. When anything fails the temporary is removed and an
+/// existing file at `path` is left as it was. A replaced file keeps its
+/// permissions. A FIFO or a device (/dev/stdout) is written in place, not
+/// replaced. Throws anima::io_error naming the file and the reason.
+inline void write_file_atomically(const std::string& path, std::string_view content) {
+    check_output_path(path);
+    if (detail::is_special_file(path)) return detail::write_bytes(path, path, content, [] {});
+    detail::rename_into_place(detail::write_temporary(path, content), path);
+}
+
+/// Files written as one: write() puts each file's bytes in a temporary file
+/// beside it, and commit() renames them all into place once every one is
+/// complete. Destroyed (or discarded) without a commit, it removes its
+/// temporaries, so a run that fails after writing some of its outputs leaves
+/// every existing file as it was. A FIFO or a device is written in place at
+/// the commit. Only the renames are left for the commit: should one of them
+/// fail, the files before it have been replaced and the rest are not.
+/// Throws anima::io_error naming the file and the reason.
+class output_files {
+public:
+    output_files() = default;
+    output_files(const output_files&) = delete;
+    output_files& operator=(const output_files&) = delete;
+    ~output_files() { discard(); }
+
+    void write(const std::string& path, std::string_view content) {
+        check_output_path(path);
+        if (detail::is_special_file(path))
+            entries_.push_back({path, {}, std::string(content)});
+        else
+            entries_.push_back({path, detail::write_temporary(path, content), {}});
+    }
+
+    void commit() {
+        std::size_t done = 0;
+        try {
+            for (; done < entries_.size(); ++done) {
+                const entry& e = entries_[done];
+                if (e.temp.empty())
+                    detail::write_bytes(e.path, e.path, e.content, [] {});
+                else
+                    detail::rename_into_place(e.temp, e.path);
+            }
+        } catch (...) {
+            entries_.erase(entries_.begin(), entries_.begin() + static_cast<std::ptrdiff_t>(done) + 1);
+            discard();
+            throw;
+        }
+        entries_.clear();
+    }
+
+    /// Removes the temporaries of files not yet committed.
+    void discard() noexcept {
+        std::error_code ec;
+        for (const entry& e : entries_)
+            if (!e.temp.empty()) std::filesystem::remove(e.temp, ec);
+        entries_.clear();
+    }
+
+    std::size_t pending() const noexcept { return entries_.size(); }
+
+private:
+    struct entry {
+        std::string path;
+        std::filesystem::path temp;  ///< empty for a file written in place
+        std::string content;         ///< the bytes of a file written in place
+    };
+    std::vector<entry> entries_;
+};
 
 }  // namespace anima

@@ -143,8 +143,9 @@ ik_goal<quat_scalar_t<Q>> pose_goal(std::size_t joint, const Eigen::Matrix<quat_
     return g;
 }
 
-/// Checks goals against a tree: joints exist, values finite, weights and
-/// scales positive, orientations non-zero (they are normalised).
+/// Checks goals against a tree: joints exist, values finite (and small
+/// enough that their weighted squared lengths are), weights and scales
+/// positive, orientations non-zero (they are normalised).
 template <class T>
 void check_goals(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>& goals, std::string_view who) {
     if (goals.empty()) throw invalid_argument(std::string(who) + ": no goals");
@@ -162,6 +163,11 @@ void check_goals(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>& goals, 
             throw invalid_argument(at(i) + ": weight and orientation_scale must be positive and finite, got " +
                                    std::to_string(static_cast<double>(g.weight)) + " and " +
                                    std::to_string(static_cast<double>(g.orientation_scale)));
+        // Squared distances and weighted residuals must stay finite: a target
+        // at 1e300 would give an infinite error rather than a solve.
+        if (!std::isfinite((g.position.squaredNorm() + g.offset.squaredNorm()) * g.weight * g.weight))
+            throw invalid_argument(at(i) + " (joint '" + tree.skeleton()[g.joint].name +
+                                   "'): target or offset too far out: its weighted squared length overflows");
         const T n = g.orientation.norm();
         if (!(n > T(0))) throw invalid_argument(at(i) + ": zero orientation quaternion");
         g.orientation.coeffs() /= n;

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstddef>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -205,9 +206,20 @@ private:
         if (!u.empty() && u[0] == '-') fail(line, "negative capacity " + std::string(t));
         if (r.ec == std::errc::result_out_of_range)
             fail(line, "capacity " + std::string(t) + " is out of the range of the capacity type (largest " +
-                           std::to_string(std::numeric_limits<Cap>::max()) + ")");
+                           largest_capacity() + ")");
         if (!capacity_traits<Cap>::valid(v)) fail(line, "capacity " + std::string(t) + " is not finite and non-negative");
         return v;
+    }
+
+    /// The capacity type's largest value, short ("1.79769e+308", not 309 digits).
+    static std::string largest_capacity() {
+        if constexpr (std::is_floating_point_v<Cap>) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%g", static_cast<double>(std::numeric_limits<Cap>::max()));
+            return buf;
+        } else {
+            return std::to_string(std::numeric_limits<Cap>::max());
+        }
     }
 
     std::string_view text_;
@@ -233,20 +245,30 @@ dimacs_max_flow<Cap> read_dimacs_max_flow(const std::string& path) {
 /// The problem as a flow_graph with one node per DIMACS node (id - 1). The
 /// source and sink are nodes without edges there; an arc straight from the
 /// source to the sink is given to the source node as equal source and sink
-/// capacities, which carry exactly that flow.
+/// capacities, which carry exactly that flow. Throws anima::invalid_argument
+/// naming the arc (its place among the arcs and its DIMACS node ids, 1-based
+/// as in the file) whose capacity makes a node's sum overflow the capacity
+/// type.
 template <class Cap>
 flow_graph<Cap> to_flow_graph(const dimacs_max_flow<Cap>& p) {
     flow_graph<Cap> g(p.nodes, p.arcs.size());
-    for (const auto& a : p.arcs) {
+    for (std::size_t i = 0; i < p.arcs.size(); ++i) {
+        const auto& a = p.arcs[i];
         if (a.from == a.to || a.to == p.source || a.from == p.sink) continue;
-        if (a.from == p.source && a.to == p.sink)
-            g.add_tweights(p.source, a.capacity, a.capacity);
-        else if (a.from == p.source)
-            g.add_tweights(a.to, a.capacity, Cap(0));
-        else if (a.to == p.sink)
-            g.add_tweights(a.from, Cap(0), a.capacity);
-        else
-            g.add_edge(a.from, a.to, a.capacity, Cap(0));
+        try {
+            if (a.from == p.source && a.to == p.sink)
+                g.add_tweights(p.source, a.capacity, a.capacity);
+            else if (a.from == p.source)
+                g.add_tweights(a.to, a.capacity, Cap(0));
+            else if (a.to == p.sink)
+                g.add_tweights(a.from, Cap(0), a.capacity);
+            else
+                g.add_edge(a.from, a.to, a.capacity, Cap(0));
+        } catch (const invalid_argument&) {
+            throw invalid_argument("anima::to_flow_graph: arc " + std::to_string(i + 1) + " (a " +
+                                   std::to_string(a.from + 1) + " " + std::to_string(a.to + 1) +
+                                   "): the sum of a node's capacities overflows the capacity type");
+        }
     }
     return g;
 }

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <optional>
@@ -19,11 +20,10 @@ namespace anima {
 
 /// Reads `rows` lines of `cols` numbers separated by commas, semicolons,
 /// tabs or spaces; blank lines are skipped (line ends and a byte order mark
-/// as text_lines reads them). NaN and infinities are read as they are, for
-/// the solver to reject. Throws anima::parse_error ("path:line: message")
-/// for a field that is not a number, a line with too few or too many
-/// numbers, and too few or too many lines; anima::invalid_argument for a
-/// grid size below 1.
+/// as text_lines reads them). Throws anima::parse_error ("path:line:
+/// message") for a field that is not a finite number in T (NaN, infinities,
+/// 1e300 for float), a line with too few or too many numbers, and too few
+/// or too many lines; anima::invalid_argument for a grid size below 1.
 template <class T>
 Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> parse_grid_csv(std::string_view text, const std::string& path,
                                                                  Eigen::Index rows, Eigen::Index cols) {
@@ -46,7 +46,12 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> parse_grid_csv(std::string_view
             if (col == cols) throw parse_error(path, line_number, "more than " + std::to_string(cols) + " numbers");
             const std::optional<double> v = whole_number(field);
             if (!v) throw parse_error(path, line_number, "'" + field + "' is not a number");
-            f(row, col++) = static_cast<T>(*v);
+            const T value = static_cast<T>(*v);
+            if (!std::isfinite(value))
+                throw parse_error(path, line_number,
+                                  "'" + field + "' (number " + std::to_string(col + 1) + ") is not a finite number" +
+                                      (std::isfinite(*v) ? " in this precision" : ""));
+            f(row, col++) = value;
         }
         if (col != cols)
             throw parse_error(path, line_number, std::to_string(col) + " numbers, expected " + std::to_string(cols));

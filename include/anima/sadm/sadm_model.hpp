@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <functional>
 #include <istream>
 #include <memory>
@@ -209,8 +210,11 @@ sadm_model<T> sadm_model<T>::load(std::istream& in, const std::string& source) {
         reader.fail("not a SADM model: the first line must read 'anima-sadm 1'");
     if (header[1] != "1") reader.fail("unsupported SADM model version '" + header[1] + "'");
     const T limit = reader.read_scalar<T>("clamp_limit");
+    if (!(limit >= T(0)) || !std::isfinite(limit))
+        reader.fail("clamp_limit must be finite and >= 0, got " + std::to_string(static_cast<double>(limit)));
     pca<T> shape_pca = read_pca(reader, "shape");
     const auto raster = reader.expect("raster");
+    const std::size_t raster_line = reader.line();
     if (raster.size() != 2) reader.fail("'raster' takes rows and columns");
     const long rows = reader.parse_count(raster[0], "raster rows"), cols = reader.parse_count(raster[1], "raster columns");
     if (rows < 1 || cols < 1 || rows > max_raster_pixels / cols)
@@ -232,7 +236,13 @@ sadm_model<T> sadm_model<T>::load(std::istream& in, const std::string& source) {
             t[static_cast<std::size_t>(k)] = static_cast<int>(index);
         }
     }
-    pca<T> grey_pca = read_pca(reader, "grey");
+    // The grey model checked where it ends (its reference and raster against its PCA).
+    std::optional<grey_model<T>> grey;
+    try {
+        grey.emplace(reference, std::move(tris), rows, cols, read_pca(reader, "grey"));
+    } catch (const invalid_argument& e) {
+        reader.fail("the grey model does not fit the raster of line " + std::to_string(raster_line) + ": " + e.what());
+    }
     const std::size_t regressor_line = reader.line();
     std::unique_ptr<regressor<T>> mapping;
     try {
@@ -241,9 +251,7 @@ sadm_model<T> sadm_model<T>::load(std::istream& in, const std::string& source) {
         throw parse_error(source, e.line() + regressor_line, e.message());
     }
     try {
-        return sadm_model(shape_model<T>(std::move(shape_pca)),
-                          grey_model<T>(reference, std::move(tris), rows, cols, std::move(grey_pca)),
-                          std::move(mapping), limit);
+        return sadm_model(shape_model<T>(std::move(shape_pca)), std::move(*grey), std::move(mapping), limit);
     } catch (const invalid_argument& e) {
         throw parse_error(source, reader.line(), std::string("inconsistent model: ") + e.what());
     }
