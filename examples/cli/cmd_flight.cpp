@@ -56,6 +56,42 @@ void write_plot(const std::string& path, const std::vector<double>& before, cons
     write_text_file(path, chart.str());
 }
 
+// Work of a run, in evaluations of one joint's dynamics at one quadrature
+// node with automatic derivatives (about 2.3 us each, measured): each
+// iteration takes one Jacobian, ceil(parameters / 16) passes over all
+// nodes, and solves its normal equations (about 9000 flops a unit).
+constexpr double max_flight_work = 4e6;  // about 10 s
+constexpr double flops_per_work_unit = 9000;
+
+/// Refuses up front a run that would need more than 1 GiB or more than
+/// max_flight_work with --iterations: both grow with the square of the keys.
+void check_flight_size(const anima::flight_problem<double>& problem, const anima::flight_optimization_params<double>& p,
+                       const flight_options& o) {
+    const std::string keys = std::to_string(problem.key_count()) + " keys (model " + std::to_string(o.model) + ", " +
+                             std::to_string(o.quadrature) + " quadrature points)";
+    const double residuals = static_cast<double>(problem.residual_count());
+    const double parameters = static_cast<double>(anima::flight_parameter_count(problem, p.model));
+    check_request_memory(anima::flight_solver_bytes(problem, p.model), 1,
+                         "flight: " + keys + ", a " + format_number(residuals) + " x " + format_number(parameters) +
+                             " Jacobian,",
+                         "the key count (KEYS.json or --keys) or --quadrature");
+    const double passes = std::ceil(parameters / anima::flight_problem<double>::jacobian_width);
+    const double joint_evaluations = passes * static_cast<double>(problem.model().size()) * residuals / 6;
+    const double per_iteration =
+        joint_evaluations + (residuals * parameters * parameters + parameters * parameters * parameters / 3) /
+                                flops_per_work_unit;
+    const double work = per_iteration * (o.iterations + 1);
+    if (work <= max_flight_work) return;
+    const double fit = std::floor(max_flight_work / per_iteration) - 1;
+    throw failure("flight: " + keys + " need up to " + std::to_string(o.iterations + 1) + " Jacobians of " +
+                  format_number(passes) + " passes over the " + std::to_string(problem.model().size()) +
+                  "-joint body at " + format_number(residuals / 6) + " quadrature nodes, about " +
+                  format_number(work, 3) + " joint evaluations (some " + format_number(work * 2.3e-6, 3) +
+                  " s), more than the " + format_number(max_flight_work) + " allowed: " +
+                  (fit >= 1 ? "give --iterations " + format_number(fit) + " or fewer, or use fewer keys"
+                            : std::string("use fewer keys or a smaller --quadrature")));
+}
+
 void run_flight(const flight_options& o) {
     check_outputs({{"--output", &o.output}, {"--plot", &o.plot}, {"--view", &o.view}});
     if (!o.keys_path.empty() + !o.example.empty() + !o.clip.empty() != 1)
@@ -79,6 +115,7 @@ void run_flight(const flight_options& o) {
     anima::flight_optimization_params<double> params;
     params.model = o.model == 1 ? anima::flight_model::timing_and_poses : anima::flight_model::timing;
     params.solver.max_iterations = o.iterations;
+    check_flight_size(problem, params, o);
     // Progress on request, and by itself once a run has taken 2 s.
     const anima::stopwatch timer;
     params.solver.on_iteration = [&](int iteration, double value) {

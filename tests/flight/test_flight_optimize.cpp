@@ -97,6 +97,19 @@ TEST_CASE_TEMPLATE("somersault keys and optimiser arguments are checked", T, flo
                        anima::flight_clip(two, two.keys(), sk, T(1), T(0.1));
                    }),
                    "joints"));
+
+    // The solver's dense matrices grow with the square of the keys: refused
+    // above max_memory, before any work.
+    const anima::flight_problem<T> somersault(anima::make_body_model(sk, {}), anima::somersault_keys(sk),
+                                              anima::somersault_settings<T>());
+    anima::flight_optimization_params<T> small;
+    small.max_memory = 1e4;
+    const double bytes = anima::flight_solver_bytes(somersault, small.model);
+    CHECK(bytes > small.max_memory);
+    CHECK(bytes == doctest::Approx(sizeof(T) * (2.0 * 264 * 10 + 3.0 * 10 * 10 + 264.0 * 19)));
+    const std::string message = invalid_argument_message([&] { anima::optimize_flight(somersault, small); });
+    CHECK(contains(message, "12 keys with 4 quadrature points need a 264 x 10 Jacobian"));
+    CHECK(contains(message, "more than max_memory"));
 }
 
 }  // namespace

@@ -181,6 +181,19 @@ public:
     const flight_keys<T>& keys() const noexcept { return keys_; }
     const flight_settings<T>& settings() const noexcept { return settings_; }
     std::size_t key_count() const noexcept { return keys_.size(); }
+    /// Number of residuals: six per quadrature node, quadrature_points nodes
+    /// per key interval.
+    Eigen::Index residual_count() const noexcept {
+        return 6 * (static_cast<Eigen::Index>(keys_.size()) - 1) * settings_.quadrature_points;
+    }
+    /// The Jacobian is taken by forward-mode automatic differentiation,
+    /// seeding `jacobian_width` parameters per pass: a model of n parameters
+    /// costs ceil(n / jacobian_width) passes over every quadrature node. The
+    /// derivative vectors have a compile-time size so that every scalar,
+    /// constants included, carries one of the same length (Eigen's
+    /// AutoDiffScalar cannot reconcile an empty derivative inside an
+    /// expression with a full one).
+    static constexpr int jacobian_width = 16;
     T total_time() const { return keys_.times.back() - keys_.times.front(); }
 
     // ----- key times (model 2) --------------------------------------------------
@@ -413,22 +426,15 @@ private:
         detail::flight_residuals(model, traj, settings_, r);
     }
 
-    /// Jacobian by forward-mode automatic differentiation, seeding
-    /// `width` parameters per pass. The derivative vectors have a
-    /// compile-time size so that every scalar, constants included, carries
-    /// one of the same length (Eigen's AutoDiffScalar cannot reconcile an
-    /// empty derivative inside an expression with a full one).
-    static constexpr int width = 16;
-
     void jacobian(const vector& x, bool full, vector& r, matrix& jac) const {
-        using ad = Eigen::AutoDiffScalar<Eigen::Matrix<T, width, 1>>;
+        using ad = Eigen::AutoDiffScalar<Eigen::Matrix<T, jacobian_width, 1>>;
         const Eigen::Index n = x.size();
         const auto model = model_.template cast<ad>();
         Eigen::Matrix<ad, Eigen::Dynamic, 1> xa(n), ra;
-        for (Eigen::Index first = 0; first < n || first == 0; first += width) {
+        for (Eigen::Index first = 0; first < n || first == 0; first += jacobian_width) {
             for (Eigen::Index i = 0; i < n; ++i) {
                 xa[i] = ad(x[i]);
-                if (i >= first && i < first + width) xa[i].derivatives()[i - first] = T(1);
+                if (i >= first && i < first + jacobian_width) xa[i].derivatives()[i - first] = T(1);
             }
             residuals_of(xa, full, model, ra);
             if (first == 0) {
@@ -436,7 +442,7 @@ private:
                 jac.resize(ra.size(), n);
                 for (Eigen::Index k = 0; k < ra.size(); ++k) r[k] = ra[k].value();
             }
-            const Eigen::Index cols = std::min<Eigen::Index>(width, n - first);
+            const Eigen::Index cols = std::min<Eigen::Index>(jacobian_width, n - first);
             for (Eigen::Index k = 0; k < ra.size(); ++k)
                 for (Eigen::Index c = 0; c < cols; ++c) jac(k, first + c) = ra[k].derivatives()[c];
             if (n == 0) break;

@@ -9,6 +9,7 @@
 #include <anima/optimize/levenberg_marquardt.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <optional>
 #include <vector>
@@ -25,6 +26,9 @@ struct flight_optimization_params {
     flight_model model = flight_model::timing;
     int momentum_samples = 201;           ///< instants used for the drift figures
     levenberg_marquardt_params<T> solver;  ///< max_iterations, tolerances, on_iteration
+    /// Refuse a problem whose solver would need more memory than this, in
+    /// bytes (anima::flight_solver_bytes); 0: no limit.
+    double max_memory = 1024.0 * 1024.0 * 1024.0;
 };
 
 template <class T>
@@ -40,7 +44,29 @@ struct flight_optimization_result {
     double seconds = 0;
 };
 
-/// Optimises the problem's keys from their own times and poses.
+/// Number of parameters the solver moves for the problem under `model`.
+template <class T>
+Eigen::Index flight_parameter_count(const flight_problem<T>& problem, flight_model model) {
+    return model == flight_model::timing ? problem.timing_size() : problem.full_size();
+}
+
+/// Bytes optimize_flight needs for the problem under `model`: two dense
+/// residuals x parameters Jacobians (current and trial), three parameters x
+/// parameters matrices (J'J, its damped copy and the factorisation), and
+/// the residuals with their derivative vectors while a Jacobian is taken.
+/// Grows with the square of the key count: 2000 keys of model (2) with 4
+/// quadrature points need about 1.5 GiB.
+template <class T>
+double flight_solver_bytes(const flight_problem<T>& problem, flight_model model) {
+    const double m = static_cast<double>(problem.residual_count());
+    const double n = static_cast<double>(flight_parameter_count(problem, model));
+    const double width = flight_problem<T>::jacobian_width;
+    return static_cast<double>(sizeof(T)) * (2 * m * n + 3 * n * n + m * (width + 3));
+}
+
+/// Optimises the problem's keys from their own times and poses. Throws
+/// anima::invalid_argument for fewer than 3 keys, a bad model, or a problem
+/// whose solver would need more than params.max_memory bytes.
 template <class T>
 flight_optimization_result<T> optimize_flight(const flight_problem<T>& problem,
                                               const flight_optimization_params<T>& params = {}) {
@@ -50,6 +76,16 @@ flight_optimization_result<T> optimize_flight(const flight_problem<T>& problem,
     if (params.model != flight_model::timing && params.model != flight_model::timing_and_poses)
         throw invalid_argument("anima::optimize_flight: model must be 1 or 2, got " +
                                std::to_string(static_cast<int>(params.model)));
+    const double bytes = flight_solver_bytes(problem, params.model);
+    if (params.max_memory > 0 && !(bytes <= params.max_memory)) {
+        const auto mib = [](double b) { return std::to_string(static_cast<long long>(std::ceil(b / (1024.0 * 1024.0)))); };
+        throw invalid_argument("anima::optimize_flight: " + std::to_string(problem.key_count()) + " keys with " +
+                               std::to_string(problem.settings().quadrature_points) +
+                               " quadrature points need a " + std::to_string(problem.residual_count()) + " x " +
+                               std::to_string(flight_parameter_count(problem, params.model)) +
+                               " Jacobian, about " + mib(bytes) + " MiB in all, more than max_memory (" +
+                               mib(params.max_memory) + " MiB): use fewer keys or quadrature points");
+    }
     const auto start = std::chrono::steady_clock::now();
     flight_optimization_result<T> out;
     out.initial = problem.keys();
