@@ -59,6 +59,24 @@ std::string planting_note(const playback_options& o, const json& out) {
     return "feet planted in " + std::to_string(out.value("planted_runs", 0)) + " contact runs";
 }
 
+// The video texture's jump search compares every frame with every other
+// (anima::video_texture_jumps): frames^2 distances of (DOFs + 8) steps each,
+// measured at about 1e9 steps a second. This many take some 4 s.
+constexpr double max_jump_search_steps = 4e9;
+
+/// Refuses up front a clip too long for the quadratic jump search.
+void check_jump_search(const motion_range& m) {
+    const double frames = static_cast<double>(m.clip.frames()), dofs = static_cast<double>(m.features.cols());
+    const double steps = frames * frames * (dofs + 8);
+    if (steps <= max_jump_search_steps) return;
+    const double most = std::floor(std::sqrt(max_jump_search_steps / (dofs + 8)));
+    throw failure("--video-texture: the jump search compares all " + format_number(frames, 12) +
+                  " frames with each other (" + format_number(frames * frames, 3) + " pairs of " + format_number(dofs) +
+                  " DOFs, about " + format_number(steps, 3) + " steps), more than the " +
+                  format_number(max_jump_search_steps) + " allowed: choose at most " + format_number(most, 12) +
+                  " frames with --first and --last");
+}
+
 void run_playback(const playback_options& o) {
     check_outputs({{"--output", &o.output}, {"--view", &o.view}});
     const anima::symmetry_params<double> params = make_symmetry_params(o.symmetry);
@@ -67,6 +85,7 @@ void run_playback(const playback_options& o) {
                          "--frames " + std::to_string(o.frames) + " of " + std::to_string(m.clip.skeleton().channel_count()) +
                              " channels",
                          "--frames");
+    if (o.video_texture) check_jump_search(m);
     const std::size_t n = m.clip.frames();
     const std::size_t last = m.first + n - 1;
     const double dt = m.clip.frame_time();
