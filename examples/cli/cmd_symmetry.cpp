@@ -31,6 +31,11 @@ struct symmetry_cli_options {
 // The distance matrix is held in memory as doubles: 8 * frames^2 bytes.
 constexpr std::size_t max_matrix_frames = 8192;
 constexpr int default_matrix_pixels = 1024;
+// Bytes a pixel of the --matrix image costs at the peak: the block means,
+// their row-major copy and the sorted copy for the percentile (doubles),
+// then the grey bytes, the filtered rows, the compressed stream and the
+// PNG (or SVG) text.
+constexpr double matrix_bytes_per_pixel = 24;
 // Labels on the score plot: at most this many, the highest scores first.
 constexpr std::size_t max_plot_labels = 12;
 
@@ -112,6 +117,21 @@ struct matrix_image {
     double white = 0;  // the distance drawn white (and everything above it)
 };
 
+/// Width and height of the --matrix image of n frames.
+int matrix_side(std::size_t n, int requested_size) {
+    return requested_size > 0 ? requested_size : static_cast<int>(std::min<std::size_t>(n, default_matrix_pixels));
+}
+
+/// Refuses up front a --matrix that would need more than 1 GiB: the n x n
+/// distances and the image's pixels.
+void check_matrix_memory(std::size_t n, int requested_size) {
+    const double side = matrix_side(n, requested_size), frames = static_cast<double>(n);
+    check_request_memory(8 * frames * frames + matrix_bytes_per_pixel * side * side, 1,
+                         "--matrix: a " + format_number(side) + "x" + format_number(side) + " image of the " +
+                             std::to_string(n) + "x" + std::to_string(n) + " distance matrix",
+                         "--matrix-size");
+}
+
 matrix_image write_distance_matrix(const std::string& path, const std::string& input, const motion_range& m,
                                    const anima::symmetry_params<double>& params, int requested_size) {
     const std::size_t n = m.clip.frames();
@@ -121,7 +141,7 @@ matrix_image write_distance_matrix(const std::string& path, const std::string& i
     if (params.distance.metric == anima::frame_metric::mahalanobis) d = d.cwiseSqrt();
 
     matrix_image out;
-    out.size = requested_size > 0 ? requested_size : static_cast<int>(std::min<std::size_t>(n, default_matrix_pixels));
+    out.size = matrix_side(n, requested_size);
     // Block means of frames when shrinking, repeated frames when enlarging;
     // row-major, as the pixels are written.
     using row_major = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
@@ -153,6 +173,7 @@ void run_symmetry(const symmetry_cli_options& o) {
     if (!o.matrix.empty() && n > max_matrix_frames)
         throw failure("--matrix: " + std::to_string(n) + " frames are too many for the full distance matrix (at most " +
                       std::to_string(max_matrix_frames) + "); choose a range with --first and --last");
+    if (!o.matrix.empty()) check_matrix_memory(n, o.matrix_size);
     const anima::symmetry_result<double> r = anima::symmetry_scores(m.features, m.clip.frame_time(), params);
     if (!r.score.allFinite()) throw failure("'" + o.input + "': the symmetry scores are not finite");
     const int candidate_window = params.candidate_radius ? params.candidate_radius : params.radius;
