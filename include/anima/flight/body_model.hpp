@@ -63,7 +63,7 @@ struct rigid_body_model {
             throw invalid_argument(where + ": offset, centre of mass or inertia is not finite");
         if (!(mass >= T(0)) || !isfinite(mass))
             throw invalid_argument(where + ": mass must be finite and >= 0, got " +
-                                   std::to_string(static_cast<double>(mass)));
+                                   detail::argument_text(mass));
         if (!((inertia - inertia.transpose()).cwiseAbs().maxCoeff() <= T(1e-6) * (T(1) + inertia.cwiseAbs().maxCoeff())))
             throw invalid_argument(where + ": inertia is not symmetric");
         names.push_back(std::move(name));
@@ -187,7 +187,7 @@ rigid_body_model<T> make_body_model(const skeleton<T>& sk, const body_model_para
     check_positive(where, "body_mass", params.body_mass);
     if (!(params.metres_per_unit >= T(0)) || !std::isfinite(params.metres_per_unit))
         throw invalid_argument(std::string(where) + ": metres_per_unit must be >= 0 and finite, got " +
-                               std::to_string(static_cast<double>(params.metres_per_unit)));
+                               detail::argument_text(params.metres_per_unit));
     if (!(params.lateral_axis.norm() > T(0)) || !params.lateral_axis.allFinite())
         throw invalid_argument(std::string(where) + ": lateral_axis must be a finite non-zero vector");
     const T unit = params.metres_per_unit > T(0) ? params.metres_per_unit : default_metres_per_unit(sk);

@@ -22,6 +22,7 @@
 // only the rate of change of angular momentum about the centre of mass.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/flight/body_model.hpp>
 #include <anima/flight/inverse_dynamics.hpp>
@@ -170,10 +171,10 @@ public:
             throw invalid_argument(std::string(who) + ": ballistic start or velocity is not finite");
         if (!(settings_.root_tolerance >= T(0)) || !std::isfinite(settings_.root_tolerance))
             throw invalid_argument(std::string(who) + ": root_tolerance (e1) must be finite and >= 0, got " +
-                                   std::to_string(static_cast<double>(settings_.root_tolerance)));
+                                   detail::argument_text(settings_.root_tolerance));
         if (!(settings_.joint_tolerance >= T(0)) || !std::isfinite(settings_.joint_tolerance))
             throw invalid_argument(std::string(who) + ": joint_tolerance (e2) must be finite and >= 0, got " +
-                                   std::to_string(static_cast<double>(settings_.joint_tolerance)));
+                                   detail::argument_text(settings_.joint_tolerance));
         quats_ = detail::aligned_key_quaternions(keys_);
     }
 
@@ -281,7 +282,7 @@ public:
     /// The motion of a key set at time t (root under the ballistic path when set).
     body_motion<T> motion_at(const key_trajectory<T>& traj, T t) const {
         if (!(t >= traj.start_time() && t <= traj.end_time()))
-            throw invalid_argument("anima::flight_problem::motion_at: t = " + std::to_string(static_cast<double>(t)) +
+            throw invalid_argument("anima::flight_problem::motion_at: t = " + detail::argument_text(t) +
                                    " is outside the keys");
         body_motion<T> m;
         detail::body_kinematics<T> k;
@@ -332,12 +333,12 @@ private:
         for (std::size_t k = 0; k < n; ++k)
             if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
                 throw invalid_argument(std::string(who) + ": times must be finite and increase strictly; time " +
-                                       std::to_string(k) + " is " + std::to_string(static_cast<double>(times[k])));
+                                       std::to_string(k) + " is " + detail::argument_text(times[k]));
         if (std::abs(times.front() - keys_.times.front()) > T(1e-6) * (T(1) + total_time()) ||
             std::abs(times.back() - keys_.times.back()) > T(1e-6) * (T(1) + total_time()))
             throw invalid_argument(std::string(who) + ": the first and last times must stay " +
-                                   std::to_string(static_cast<double>(keys_.times.front())) + " and " +
-                                   std::to_string(static_cast<double>(keys_.times.back())));
+                                   detail::argument_text(keys_.times.front()) + " and " +
+                                   detail::argument_text(keys_.times.back()));
     }
     static void check_size(const vector& x, Eigen::Index n, const char* who) {
         if (x.size() != n)

@@ -12,6 +12,7 @@
 // the dynamics do not ask for.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/flight/cubic_spline.hpp>
 #include <anima/core/scalar_value.hpp>
@@ -72,10 +73,10 @@ void check_keys(const flight_keys<T>& keys, std::size_t joints, const char* who)
     for (std::size_t k = 0; k < n; ++k) {
         if (!std::isfinite(keys.times[k]) || (k > 0 && !(keys.times[k] > keys.times[k - 1])))
             throw invalid_argument(w + ": key times must be finite and increase strictly; key " + std::to_string(k) +
-                                   " has " + std::to_string(static_cast<double>(keys.times[k])));
+                                   " has " + detail::argument_text(keys.times[k]));
         if (!(std::abs(static_cast<double>(keys.times[k])) <= flight_max_time))
             throw invalid_argument(w + ": key " + std::to_string(k) + ": time " +
-                                   std::to_string(static_cast<double>(keys.times[k])) + " s is outside +-1e6 s");
+                                   detail::argument_text(keys.times[k]) + " s is outside +-1e6 s");
         if (!keys.root_positions[k].allFinite())
             throw invalid_argument(w + ": key " + std::to_string(k) + ": root position is not finite");
         if (!(static_cast<double>(keys.root_positions[k].cwiseAbs().maxCoeff()) <= flight_max_position))
@@ -191,9 +192,9 @@ public:
     /// throws anima::invalid_argument outside.
     body_motion<S> at(const S& t) const {
         if (!(t >= start_time() && t <= end_time()))
-            throw invalid_argument("anima::key_trajectory::at: t = " + std::to_string(detail::scalar_value(t)) +
-                                   " is outside [" + std::to_string(detail::scalar_value(start_time())) + ", " +
-                                   std::to_string(detail::scalar_value(end_time())) + "]");
+            throw invalid_argument("anima::key_trajectory::at: t = " + detail::argument_text(detail::scalar_value(t)) +
+                                   " is outside [" + detail::argument_text(detail::scalar_value(start_time())) + ", " +
+                                   detail::argument_text(detail::scalar_value(end_time())) + "]");
         body_motion<S> m;
         evaluate(t, m);
         return m;

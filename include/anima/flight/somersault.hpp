@@ -9,6 +9,7 @@
 #pragma once
 
 #include <anima/core/constants.hpp>
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/flight/flight_objective.hpp>
 #include <anima/flight/key_trajectory.hpp>
@@ -44,7 +45,7 @@ flight_keys<T> somersault_keys(const skeleton<T>& sk, const somersault_params<T>
     using quat = Eigen::Quaternion<T>;
     if (!(p.hang_time > T(0)) || !std::isfinite(p.hang_time))
         throw invalid_argument("anima::somersault_keys: hang_time must be positive, got " +
-                               std::to_string(static_cast<double>(p.hang_time)));
+                               detail::argument_text(p.hang_time));
     const auto need = [&](const char* name) {
         if (auto j = sk.find(name)) return *j;
         throw invalid_argument(std::string("anima::somersault_keys: the skeleton has no joint '") + name +

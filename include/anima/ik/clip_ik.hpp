@@ -6,6 +6,7 @@
 // solves one frame at a time into caller-owned storage, for a game loop.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/ik/goal.hpp>
 #include <anima/ik/kinematic_tree.hpp>
@@ -99,7 +100,7 @@ template <class T>
 void check_clip_ik_params(const clip_ik_params<T>& params, const char* who) {
     if (!(params.pose_pull >= T(0)) || !std::isfinite(params.pose_pull))
         throw invalid_argument(std::string(who) + ": pose_pull must be finite and not negative, got " +
-                               std::to_string(static_cast<double>(params.pose_pull)));
+                               detail::argument_text(params.pose_pull));
 }
 
 /// Bases the tree on frame f of c and sets the frame's solver parameters

@@ -3,6 +3,7 @@
 // goals with respect to a kinematic tree's DOFs.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/rotation/detail/so3.hpp>
 #include <anima/ik/kinematic_tree.hpp>
@@ -161,8 +162,8 @@ void check_goals(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>& goals, 
         if (!(g.weight > T(0)) || !std::isfinite(g.weight) || !(g.orientation_scale > T(0)) ||
             !std::isfinite(g.orientation_scale))
             throw invalid_argument(at(i) + ": weight and orientation_scale must be positive and finite, got " +
-                                   std::to_string(static_cast<double>(g.weight)) + " and " +
-                                   std::to_string(static_cast<double>(g.orientation_scale)));
+                                   detail::argument_text(g.weight) + " and " +
+                                   detail::argument_text(g.orientation_scale));
         // Squared distances and weighted residuals must stay finite: a target
         // at 1e300 would give an infinite error rather than a solve.
         if (!std::isfinite((g.position.squaredNorm() + g.offset.squaredNorm()) * g.weight * g.weight))

@@ -15,6 +15,7 @@
 
 #include <anima/core/constants.hpp>
 #include <anima/core/eigen_types.hpp>
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/rotation/exp_log.hpp>
@@ -304,8 +305,8 @@ private:
         if (std::isnan(lo) || std::isnan(hi) || lo > hi || lo == std::numeric_limits<T>::infinity() ||
             hi == -std::numeric_limits<T>::infinity())
             throw invalid_argument(std::string("anima::kinematic_tree::") + who + ": joint '" + name(j) +
-                                   "': limits [" + std::to_string(static_cast<double>(lo)) + ", " +
-                                   std::to_string(static_cast<double>(hi)) + "] are not a range");
+                                   "': limits [" + detail::argument_text(lo) + ", " +
+                                   detail::argument_text(hi) + "] are not a range");
     }
     void renumber() {
         const std::size_t n = skeleton_.size();

@@ -8,6 +8,7 @@
 // frame, so one model serves a character wherever it stands.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/ik/detail/som.hpp>
 #include <anima/ik/goal.hpp>
@@ -391,7 +392,7 @@ void check_learned_goals(const kinematic_tree<T>& tree, const learned_ik_model<T
     if (prm.blend < 1 || prm.learned_steps < 0 || !(prm.reference_gain >= T(0)))
         throw invalid_argument(who + ": blend " + std::to_string(prm.blend) + ", learned_steps " +
                                std::to_string(prm.learned_steps) + ", reference_gain " +
-                               std::to_string(static_cast<double>(prm.reference_gain)) +
+                               detail::argument_text(prm.reference_gain) +
                                ": blend must be >= 1, the others >= 0");
     if (goals.size() != joints.size())
         throw invalid_argument(who + ": " + std::to_string(goals.size()) + " goals for a model of " +

@@ -11,6 +11,7 @@
 // step, or by the limits inside the step alone.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/ik/detail/limited_solve.hpp>
 #include <anima/ik/goal.hpp>
@@ -230,7 +231,7 @@ ik_result<T> solve_ik_levenberg_marquardt(const kinematic_tree<T>& tree, std::ve
     detail::check_ik_params(prm.ik, tree.dofs(), who);
     if (!(prm.initial_damping > T(0)))
         throw invalid_argument(std::string(who) + ": initial_damping must be positive, got " +
-                               std::to_string(prm.initial_damping));
+                               detail::argument_text(prm.initial_damping));
     if (prm.polish_iterations < 0)
         throw invalid_argument(std::string(who) + ": polish_iterations is " + std::to_string(prm.polish_iterations));
     if (prm.stall_window < 1 || !(prm.stall_decrease >= T(0) && prm.stall_decrease < T(1)))

@@ -4,6 +4,7 @@
 // of a pose to the nearest training pose).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/ik/kinematic_tree.hpp>
 #include <anima/motion/clip.hpp>
@@ -42,7 +43,7 @@ ik_vector<T> dof_weights_from_poses(const ik_matrix<T>& poses, T floor = T(0.01)
                                std::to_string(poses.cols()) + " of " + std::to_string(poses.rows()));
     if (!poses.allFinite()) throw invalid_argument("anima::dof_weights_from_poses: non-finite pose");
     if (!(floor > T(0)) || !std::isfinite(floor))
-        throw invalid_argument("anima::dof_weights_from_poses: floor is " + std::to_string(static_cast<double>(floor)));
+        throw invalid_argument("anima::dof_weights_from_poses: floor is " + detail::argument_text(floor));
     const ik_vector<T> mean = poses.rowwise().mean();
     const ik_vector<T> var = (poses.colwise() - mean).array().square().rowwise().sum() / T(poses.cols() - 1);
     T avg = var.mean();

@@ -10,6 +10,7 @@
 // size as the last allocates nothing (solve_ik_into's game-loop form).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/ik/kinematic_tree.hpp>
 
@@ -208,7 +209,7 @@ struct weighted_rule {
         for (Eigen::Index k = 0; k < weights.size(); ++k)
             if (!(weights[k] > T(0)) || !std::isfinite(weights[k]))
                 throw invalid_argument("anima::weighted_rule: weight " + std::to_string(k) + " is " +
-                                       std::to_string(static_cast<double>(weights[k])) + ", must be positive and finite");
+                                       detail::argument_text(weights[k]) + ", must be positive and finite");
     }
     void operator()(const ik_matrix<T>& j, const ik_vector<T>& e, ik_vector<T>& dq, ik_step_info<T>& info) const {
         ik_step_scratch<T> s;

@@ -25,6 +25,7 @@
 // capacity.hpp. Unset grid edges have capacity 0 (no edge).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/maxflow/capacity.hpp>
 #include <anima/maxflow/detail/adjacency.hpp>
@@ -312,14 +313,14 @@ private:
         if (!(traits::valid(cap) && traits::valid(rev) && traits::sum_fits(cap, rev))) pair_error(cap, rev, fn);
     }
     [[noreturn]] static void capacity_error(Cap c, const char* fn) {
-        throw invalid_argument(std::string("grid_flow_graph::") + fn + ": capacity " + std::to_string(c) +
+        throw invalid_argument(std::string("grid_flow_graph::") + fn + ": capacity " + detail::argument_text(c) +
                                " is not finite and non-negative");
     }
     [[noreturn]] static void pair_error(Cap cap, Cap rev, const char* fn) {
         if (!traits::valid(cap)) capacity_error(cap, fn);
         if (!traits::valid(rev)) capacity_error(rev, fn);
-        throw invalid_argument(std::string("grid_flow_graph::") + fn + ": capacities " + std::to_string(cap) + " and " +
-                               std::to_string(rev) + " overflow the capacity type when added");
+        throw invalid_argument(std::string("grid_flow_graph::") + fn + ": capacities " + detail::argument_text(cap) + " and " +
+                               detail::argument_text(rev) + " overflow the capacity type when added");
     }
     void check_solved(const char* fn) const {
         if (!solved_)

@@ -133,7 +133,7 @@ template <class T>
 void check_regularization(T regularization, const char* function) {
     if (!(regularization > T(0)) || !(regularization <= T(1)))
         throw invalid_argument(std::string(function) + ": regularization must be in (0, 1], got " +
-                               std::to_string(static_cast<double>(regularization)));
+                               detail::argument_text(regularization));
 }
 }  // namespace detail
 
@@ -248,7 +248,7 @@ T l2_similarity(T distance, T sigma) {
     check_positive("anima::l2_similarity", "sigma", sigma);
     if (!(distance >= T(0)))
         throw invalid_argument("anima::l2_similarity: distance must be >= 0, got " +
-                               std::to_string(static_cast<double>(distance)));
+                               detail::argument_text(distance));
     return std::exp(-distance / sigma);
 }
 

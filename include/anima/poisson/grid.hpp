@@ -16,6 +16,7 @@
 #pragma once
 
 #include <anima/core/enum_names.hpp>
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 
 #include <Eigen/Core>
@@ -97,8 +98,8 @@ void check_poisson_grid(const poisson_grid<T>& g, const std::string& who) {
                                "); it needs at least one row and one column");
     if (!(g.hx > T(0)) || !(g.hy > T(0)) || !std::isfinite(g.hx) || !std::isfinite(g.hy))
         throw invalid_argument(who + ": grid spacings must be positive and finite, got hy = " +
-                               std::to_string(static_cast<double>(g.hy)) + ", hx = " +
-                               std::to_string(static_cast<double>(g.hx)));
+                               detail::argument_text(g.hy) + ", hx = " +
+                               detail::argument_text(g.hx));
     if (g.masked() && (g.mask.rows() != g.rows || g.mask.cols() != g.cols))
         throw invalid_argument(who + ": the mask is " + std::to_string(g.mask.rows()) + " x " +
                                std::to_string(g.mask.cols()) + ", the grid " + std::to_string(g.rows) + " x " +

@@ -7,6 +7,7 @@
 // Call these qualified (anima::dot): GLM declares functions of the same names.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
@@ -49,7 +50,7 @@ Q inverse(const Q& q) {
     const auto r = detail::conj4(p * (T(1) / n)) * (T(1) / n);  // |q| divided out twice: no overflow of |q|^2
     if (!std::isfinite(r.w) || !std::isfinite(r.x) || !std::isfinite(r.y) || !std::isfinite(r.z))
         throw invalid_argument("anima::inverse: the inverse of a quaternion of norm " +
-                               std::to_string(static_cast<double>(n)) + " is not representable");
+                               detail::argument_text(n) + " is not representable");
     return detail::store<Q>(r);
 }
 

@@ -28,6 +28,7 @@
 // anima::invalid_argument for inputs that are not rotations.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/rotation/detail/angle_series.hpp>
 #include <anima/rotation/detail/quat4.hpp>
@@ -171,7 +172,7 @@ T sin_ratio(T k, T theta) {
 template <class T>
 quat4<T> slerp_general(const quat4<T>& a_in, const quat4<T>& b_in, T t, arc mode, const char* who) {
     if (!std::isfinite(t))
-        throw invalid_argument(std::string(who) + ": t is not finite (" + std::to_string(static_cast<double>(t)) + ")");
+        throw invalid_argument(std::string(who) + ": t is not finite (" + detail::argument_text(t) + ")");
     const quat4<T> a = normalized_or_throw(a_in, who);
     quat4<T> b = normalized_or_throw(b_in, who);
     if (mode == arc::shortest && dot4(a, b) < T(0)) b = -b;

@@ -5,6 +5,7 @@
 // region (Fig 3), optionally with Gaussian noise on the landmarks (Table 2).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
 #include <anima/sadm/detail/gaussian.hpp>
@@ -70,7 +71,7 @@ sadm_evaluation<T> evaluate_sadm(const sadm_model<T>& model, const std::vector<I
                                std::to_string(images.size()) + " images and " + std::to_string(landmarks.size()) +
                                " landmark sets");
     if (!(options.noise >= T(0)) || !std::isfinite(options.noise))
-        throw invalid_argument(who + ": noise must be finite and >= 0, got " + std::to_string(static_cast<double>(options.noise)));
+        throw invalid_argument(who + ": noise must be finite and >= 0, got " + detail::argument_text(options.noise));
     const auto& grey = model.grey();
     const Eigen::Index n = static_cast<Eigen::Index>(images.size()), m = grey.size();
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> predicted(n, m), real(n, m);

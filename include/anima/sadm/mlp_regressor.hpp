@@ -6,6 +6,7 @@
 // of the data and the options.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/optimize/bfgs.hpp>
 #include <anima/sadm/detail/regress_io.hpp>
@@ -46,7 +47,7 @@ public:
                 throw invalid_argument("anima::mlp_regressor: hidden layer size " + std::to_string(h) +
                                        " must be in [1, 100000]");
         if (!(p.weight_decay >= T(0)) || !std::isfinite(static_cast<double>(p.weight_decay)))
-            throw invalid_argument("anima::mlp_regressor: weight_decay " + std::to_string(p.weight_decay) +
+            throw invalid_argument("anima::mlp_regressor: weight_decay " + detail::argument_text(p.weight_decay) +
                                    " must be finite and >= 0");
         if (p.max_iterations <= 0)
             throw invalid_argument("anima::mlp_regressor: max_iterations " + std::to_string(p.max_iterations) +

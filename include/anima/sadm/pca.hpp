@@ -6,6 +6,7 @@
 // model for the +-3 sqrt(lambda) clamp of the parameters (Eq 6).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 
 #include <Eigen/Core>
@@ -65,7 +66,7 @@ public:
             throw invalid_argument(who + ": options.components must be >= 0, got " + std::to_string(options.components));
         if (options.components == 0 && !(options.retained_variance > T(0) && options.retained_variance <= T(1)))
             throw invalid_argument(who + ": options.retained_variance must be in (0, 1], got " +
-                                   std::to_string(static_cast<double>(options.retained_variance)));
+                                   detail::argument_text(options.retained_variance));
         for (Eigen::Index j = 0; j < d; ++j)
             for (Eigen::Index i = 0; i < n; ++i)
                 if (!std::isfinite(static_cast<double>(samples(i, j))))
@@ -164,7 +165,7 @@ public:
         check_size(b.size(), size(), "anima::pca::clamp", "b");
         if (!(limit >= T(0)))
             throw invalid_argument("anima::pca::clamp: limit must be >= 0, got " +
-                                   std::to_string(static_cast<double>(limit)));
+                                   detail::argument_text(limit));
         vector out(b.size());
         for (Eigen::Index i = 0; i < b.size(); ++i) {
             const T bound = limit * std::sqrt(eigenvalues_(i));

@@ -6,6 +6,7 @@
 // neutral frame with Poisson blending. Saved as text with a version header.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/sadm/appearance_model.hpp>
 #include <anima/sadm/detail/regress_io.hpp>
@@ -63,7 +64,7 @@ public:
                                    std::to_string(shape_.size()) + " and " + std::to_string(grey_.size()));
         if (!(clamp_limit_ >= T(0)) || !std::isfinite(clamp_limit_))
             throw invalid_argument(who + ": clamp_limit must be finite and >= 0, got " +
-                                   std::to_string(static_cast<double>(clamp_limit_)));
+                                   detail::argument_text(clamp_limit_));
     }
 
     /// Trains on frames (grey levels, rows = y) and their landmarks. Throws
@@ -211,7 +212,7 @@ sadm_model<T> sadm_model<T>::load(std::istream& in, const std::string& source) {
     if (header[1] != "1") reader.fail("unsupported SADM model version '" + header[1] + "'");
     const T limit = reader.read_scalar<T>("clamp_limit");
     if (!(limit >= T(0)) || !std::isfinite(limit))
-        reader.fail("clamp_limit must be finite and >= 0, got " + std::to_string(static_cast<double>(limit)));
+        reader.fail("clamp_limit must be finite and >= 0, got " + detail::argument_text(limit));
     pca<T> shape_pca = read_pca(reader, "shape");
     const auto raster = reader.expect("raster");
     const std::size_t raster_line = reader.line();

@@ -30,6 +30,7 @@
 #pragma once
 
 #include <anima/core/constants.hpp>
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/flush_denormals.hpp>
 #include <anima/core/stopwatch.hpp>
@@ -140,7 +141,7 @@ std::vector<std::size_t> texture_stream(const motion_texton<T>& texton, std::siz
     if (params.mixing.symmetric) {
         if (!(params.mixing.probability >= T(0)) || !(params.mixing.probability <= T(1)))
             throw invalid_argument("anima::texture_stream: the mixing probability must be in [0, 1], got " +
-                                   std::to_string(static_cast<double>(params.mixing.probability)));
+                                   detail::argument_text(params.mixing.probability));
         candidates = symmetry_scores(texton.motion, params.mixing.symmetry).candidates;
         for (const auto& c : candidates) {
             is_candidate[c.frame] = true;

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <anima/core/enum_names.hpp>
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/finite_difference.hpp>
 
@@ -93,7 +94,7 @@ public:
                 throw invalid_argument(who + "weight " + std::to_string(c) + " is negative or not finite");
         if (!(params.epsilon > T(0)) || !std::isfinite(params.epsilon))
             throw invalid_argument(who + "epsilon must be positive and finite, got " +
-                                   std::to_string(static_cast<double>(params.epsilon)));
+                                   detail::argument_text(params.epsilon));
         const matrix ma = a, mb = b;
         if (!ma.allFinite() || !mb.allFinite()) throw invalid_argument(who + "the motions have a non-finite value");
         const vector w = weights.size() ? weights : vector::Ones(a.cols());

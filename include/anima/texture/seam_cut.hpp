@@ -11,6 +11,7 @@
 // The cut's capacity is the maximum flow.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/maxflow/capacity.hpp>
 #include <anima/maxflow/grid_graph.hpp>
@@ -57,7 +58,7 @@ seam_cut_result<T> cut_seams(const seam_cost<T>& cost, const std::vector<std::pa
     const std::size_t rows = cost.rows(), frames = cost.frames();
     if (!(neighbour_weight >= T(0)) || !std::isfinite(neighbour_weight))
         throw invalid_argument("anima::cut_seams: the neighbour weight must be finite and >= 0, got " +
-                               std::to_string(static_cast<double>(neighbour_weight)));
+                               detail::argument_text(neighbour_weight));
     for (const auto& [r1, r2] : neighbours)
         if (r1 >= rows || r2 >= rows || r1 == r2)
             throw invalid_argument("anima::cut_seams: neighbour pair (" + std::to_string(r1) + ", " + std::to_string(r2) +

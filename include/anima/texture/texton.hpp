@@ -32,6 +32,7 @@
 #pragma once
 
 #include <anima/core/constants.hpp>
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/flush_denormals.hpp>
 #include <anima/core/stopwatch.hpp>
@@ -314,8 +315,8 @@ void check_texton_clips(const std::vector<const clip<T>*>& clips, const texton_p
         }
         const T dt0 = clips[0]->frame_time(), dt = clips[i]->frame_time();
         if (std::abs(dt - dt0) > T(1e-4) * dt0)
-            throw invalid_argument(where + "its frame time (" + std::to_string(static_cast<double>(dt)) +
-                                   " s) is not clip 0's (" + std::to_string(static_cast<double>(dt0)) +
+            throw invalid_argument(where + "its frame time (" + detail::argument_text(dt) +
+                                   " s) is not clip 0's (" + detail::argument_text(dt0) +
                                    " s); resample it first");
     }
 }

@@ -24,6 +24,7 @@
 
 #include <anima/core/constants.hpp>
 #include <anima/core/enum_names.hpp>
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
@@ -337,8 +338,8 @@ void make_transition_into(const clip<T>& a, std::size_t trigger, const clip<T>& 
     detail::check_transition(a, trigger, b, b_start, params, "anima::make_transition_into");
     if (detail::other_frame_time(a, b))
         throw invalid_argument("anima::make_transition_into: clip B's frame time " +
-                               std::to_string(static_cast<double>(b.frame_time())) + " s differs from clip A's " +
-                               std::to_string(static_cast<double>(a.frame_time())) + " s: resample B first");
+                               detail::argument_text(b.frame_time()) + " s differs from clip A's " +
+                               detail::argument_text(a.frame_time()) + " s: resample B first");
     detail::make_transition_checked(a, trigger, b, b_start, params, out, ws);
 }
 

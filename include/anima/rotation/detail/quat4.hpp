@@ -7,6 +7,7 @@
 // chosen by the scalar's value).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/inline.hpp>
 #include <anima/core/scalar_value.hpp>
@@ -126,7 +127,7 @@ quat4<T> normalized_or_throw(const quat4<T>& q, const char* who, T* log_norm = n
     const T m = max_abs4(q);
     if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max()))
         throw invalid_argument(std::string(who) + ": quaternion has zero or non-finite norm (largest component " +
-                               std::to_string(static_cast<double>(m)) + ")");
+                               detail::argument_text(m) + ")");
     const quat4<T> s{q.w / m, q.x / m, q.y / m, q.z / m};  // largest component exactly +-1
     const T n = norm4(s);
     if (log_norm) *log_norm = std::log(m) + std::log(n);
