@@ -589,6 +589,14 @@ TEST_CASE_TEMPLATE("solvers refuse bad goals, poses and parameters naming them",
     CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, far_goal, q0, pseudo_inverse<T>{}); }), "too far out"));
     far_goal[0].position.y() = std::sqrt(std::numeric_limits<T>::max()) / T(4);  // its square is still finite
     CHECK_NOTHROW((void)solve_ik(arm, far_goal, q0, pseudo_inverse<T>{}));
+    // A tree whose every joint is fixed has nothing to move: refused by every
+    // solver (the SVD of its 3 x 0 Jacobian asserted in Eigen before).
+    auto fixed = arm;
+    for (std::size_t j = 0; j < fixed.skeleton().size(); ++j) fixed.set_fixed(j);
+    REQUIRE(fixed.dofs() == 0);
+    for (const anima::ik_solver solver : anima::ik_solvers)
+        CHECK(anima_test::contains(msg([&] { (void)anima::solve_ik_with(solver, fixed, goals, ik_vector<T>()); }),
+                                   "no free DOF"));
     auto bad_joint = goals;
     bad_joint[0].joint = 99;
     CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, bad_joint, q0, pseudo_inverse<T>{}); }), "99"));

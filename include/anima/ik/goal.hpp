@@ -144,12 +144,14 @@ ik_goal<quat_scalar_t<Q>> pose_goal(std::size_t joint, const Eigen::Matrix<quat_
     return g;
 }
 
-/// Checks goals against a tree: joints exist, values finite (and small
+/// Checks goals against a tree: the tree has a free DOF, joints exist, values finite (and small
 /// enough that their weighted squared lengths are), weights and scales
 /// positive, orientations non-zero (they are normalised).
 template <class T>
 void check_goals(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>& goals, std::string_view who) {
     if (goals.empty()) throw invalid_argument(std::string(who) + ": no goals");
+    if (tree.dofs() == 0)
+        throw invalid_argument(std::string(who) + ": the tree has no free DOF (every joint is fixed): nothing can move");
     // The messages are built only on failure: a check that passes allocates nothing.
     const auto at = [&](std::size_t i) { return std::string(who) + ": goal " + std::to_string(i); };
     for (std::size_t i = 0; i < goals.size(); ++i) {
