@@ -168,17 +168,6 @@ inline void rename_into_place(const std::filesystem::path& temp, const std::stri
 
 }  // namespace detail
 
-/// Writes `content` to `path`, replacing the file: the bytes go to a
-/// temporary file next to it, which is renamed into place once it is
-/// complete and closed. When anything fails the temporary is removed and an
-/// existing file at `path` is left as it was. A replaced file keeps its
-/// permissions. A FIFO or a device (/dev/stdout) is written in place, not
-/// replaced. Throws anima::io_error naming the file and the reason.
-inline void write_file_atomically(const std::string& path, std::string_view content) {
-    check_output_path(path);
-    if (detail::is_special_file(path)) return detail::write_bytes(path, path, content, [] {});
-    detail::rename_into_place(detail::write_temporary(path, content), path);
-}
 
 /// Files written as one: write() puts each file's bytes in a temporary file
 /// beside it, and commit() renames them all into place once every one is
@@ -239,5 +228,17 @@ private:
     };
     std::vector<entry> entries_;
 };
+
+/// Writes `content` to `path`, replacing the file: the bytes go to a
+/// temporary file next to it, which is renamed into place once it is
+/// complete and closed. When anything fails the temporary is removed and an
+/// existing file at `path` is left as it was. A replaced file keeps its
+/// permissions. A FIFO or a device (/dev/stdout) is written in place, not
+/// replaced. Throws anima::io_error naming the file and the reason.
+inline void write_file_atomically(const std::string& path, std::string_view content) {
+    output_files out;  // one file: the same temporary, rename and in-place writing
+    out.write(path, content);
+    out.commit();
+}
 
 }  // namespace anima

@@ -62,9 +62,15 @@ public:
             throw invalid_argument(who + ": the mapping takes " + std::to_string(mapping_->input_size()) + " -> " +
                                    std::to_string(mapping_->output_size()) + " parameters, the models have " +
                                    std::to_string(shape_.size()) + " and " + std::to_string(grey_.size()));
-        if (!(clamp_limit_ >= T(0)) || !std::isfinite(clamp_limit_))
-            throw invalid_argument(who + ": clamp_limit must be finite and >= 0, got " +
-                                   detail::argument_text(clamp_limit_));
+        if (const std::string problem = clamp_limit_problem(clamp_limit_); !problem.empty())
+            throw invalid_argument(who + ": " + problem);
+    }
+
+    /// What is wrong with a clamp limit (empty when it is finite and >= 0):
+    /// the constructor's check, which load makes on the limit's own line.
+    static std::string clamp_limit_problem(T limit) {
+        if (limit >= T(0) && std::isfinite(limit)) return {};
+        return "clamp_limit must be finite and >= 0, got " + detail::argument_text(limit);
     }
 
     /// Trains on frames (grey levels, rows = y) and their landmarks. Throws
@@ -211,8 +217,7 @@ sadm_model<T> sadm_model<T>::load(std::istream& in, const std::string& source) {
         reader.fail("not a SADM model: the first line must read 'anima-sadm 1'");
     if (header[1] != "1") reader.fail("unsupported SADM model version '" + header[1] + "'");
     const T limit = reader.read_scalar<T>("clamp_limit");
-    if (!(limit >= T(0)) || !std::isfinite(limit))
-        reader.fail("clamp_limit must be finite and >= 0, got " + detail::argument_text(limit));
+    if (const std::string problem = clamp_limit_problem(limit); !problem.empty()) reader.fail(problem);
     pca<T> shape_pca = read_pca(reader, "shape");
     const auto raster = reader.expect("raster");
     const std::size_t raster_line = reader.line();
