@@ -10,6 +10,7 @@
 #include <anima/motion/finite_difference.hpp>
 #include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/reorient.hpp>
+#include <anima/motion/resample.hpp>
 #include <anima/motion/skeleton.hpp>
 #include <anima/motion/velocities.hpp>
 #include <anima/rotation/quaternion.hpp>
@@ -350,6 +351,50 @@ TEST_CASE("skeleton children, translation slots and channel counts") {
 // clip
 // =====================================================================================
 
+TEST_CASE_TEMPLATE("resample: slerp and lerp between the nearest frames, bounded output", T, float, double) {
+    using V = Eigen::Matrix<T, 3, 1>;
+    using Q = Eigen::Quaternion<T>;
+    anima::clip<T> c(small_skeleton<T>(), 3, T(0.1));
+    c.set_rotation(1, 1, Q(Eigen::AngleAxis<T>(T(1.2), V(0, 0, 1))));
+    c.set_rotation(2, 1, Q(Eigen::AngleAxis<T>(T(-2.5), V(1, 2, 0).normalized())));
+    c.set_translation(1, 0, V(1, 2, 3));
+    c.set_translation(2, 0, V(-4, 0, 2));
+    // 0.2 s every 0.03 s: frames at 0, 0.03, ..., 0.18 (0.21 is past the end).
+    const anima::clip<T> r = anima::resample(c, T(0.03));
+    REQUIRE(r.frames() == 7);
+    CHECK(r.frame_time() == T(0.03));
+    const T tol = std::is_same<T, float>::value ? T(2e-6) : T(1e-14);
+    for (std::size_t f = 0; f < r.frames(); ++f) {
+        const double s = 0.3 * static_cast<double>(f);  // position in source frames
+        const auto i = std::min<std::size_t>(static_cast<std::size_t>(s), 1);
+        const T u = T(s - static_cast<double>(i));
+        CAPTURE(f);
+        // Eigen's slerp and a plain lerp are the independent references.
+        CHECK(r.rotation(f, 1).angularDistance(c.rotation(i, 1).slerp(u, c.rotation(i + 1, 1))) <= tol);
+        CHECK((r.translation(f, 0) - ((T(1) - u) * c.translation(i, 0) + u * c.translation(i + 1, 0))).norm() <=
+              tol * 8);
+    }
+    // One-frame and empty clips keep their frames and take the new frame time.
+    CHECK(anima::resample(anima::clip<T>(small_skeleton<T>(), 1, T(0.1)), T(0.5)).frames() == 1);
+    CHECK(anima::resample(anima::clip<T>(small_skeleton<T>(), 0, T(0.1)), T(0.5)).frame_time() == T(0.5));
+    // 0.2 s every 1e-9 s would be 2e8 frames (35 GB in double): refused by
+    // the default 1 GiB limit, naming the frame time.
+    CHECK_THROWS_WITH_AS(anima::resample(c, T(1e-9)), doctest::Contains("anima::resample: frame time"),
+                         anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::resample(c, T(1e-30)), doctest::Contains("more than max_memory"),
+                         anima::invalid_argument);
+    CHECK(anima::resample(c, T(1e-4), 1e9).frames() == 2001);  // a larger limit lets it through
+    CHECK_THROWS_AS(anima::resample(c, T(1e-4), 1e3), anima::invalid_argument);
+    for (T bad : {T(0), T(-1), std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::infinity()})
+        CHECK_THROWS_WITH_AS(anima::resample(c, bad), doctest::Contains("anima::resample: frame time"),
+                             anima::invalid_argument);
+    // rotate_clip names itself for a rotation that is no rotation.
+    CHECK_THROWS_WITH_AS(anima::rotate_clip(c, Q(0, 0, 0, 0)), doctest::Contains("anima::rotate_clip"),
+                         anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::rotate_clip(c, Q(std::numeric_limits<T>::quiet_NaN(), 0, 0, 0)),
+                         doctest::Contains("anima::rotate_clip"), anima::invalid_argument);
+}
+
 TEST_CASE_TEMPLATE("clip construction, frame time, resize", T, float, double) {
     using V = Eigen::Matrix<T, 3, 1>;
     using Q = Eigen::Quaternion<T>;
@@ -379,6 +424,13 @@ TEST_CASE_TEMPLATE("clip construction, frame time, resize", T, float, double) {
         CHECK(c.frame_time() == T(0.125));
         c.set_frame_time(T(0.25));
         CHECK(c.frame_rate() == T(4));
+        // A subnormal frame time would make the frame rate infinite.
+        const T subnormal = std::numeric_limits<T>::denorm_min();
+        CHECK(std::isinf(T(1) / subnormal));
+        CHECK_THROWS_WITH_AS(c.set_frame_time(subnormal), doctest::Contains("positive, normal and finite"),
+                             anima::invalid_argument);
+        c.set_frame_time(std::numeric_limits<T>::min());
+        CHECK(std::isfinite(c.frame_rate()));
     }
     SUBCASE("resize repeats the last frame") {
         const Q q1(Eigen::AngleAxis<T>(T(0.5), V(0, 0, 1)));

@@ -162,11 +162,12 @@ TEST_CASE_TEMPLATE("bfgs_minimize reports how it stopped", T, float, double) {
 
 TEST_CASE_TEMPLATE("bfgs_minimize rejects bad input", T, float, double) {
     const quadratic<T> q(3, 1u);
-    CHECK_THROWS_AS(anima::bfgs_minimize<T>(q, vector_x<T>()), anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::bfgs_minimize<T>(q, vector_x<T>()), "anima::bfgs_minimize: the start point is empty",
+                         anima::invalid_argument);
     vector_x<T> x0 = vector_x<T>::Zero(3);
     x0[1] = std::numeric_limits<T>::quiet_NaN();
     CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { anima::bfgs_minimize<T>(q, x0); }),
-                               "component 1"));
+                               "anima::bfgs_minimize: start point component 1"));
     auto nan_at_start = [](const vector_x<T>&, vector_x<T>& g) {
         g.setZero();
         return std::numeric_limits<T>::quiet_NaN();

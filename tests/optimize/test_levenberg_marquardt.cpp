@@ -187,7 +187,8 @@ TEST_CASE_TEMPLATE("levenberg_marquardt handles rank deficiency, rejected steps 
             if (j) j->setZero(1, x.size());
         };
         CHECK_THROWS_AS(anima::levenberg_marquardt<T>(nan_residuals, vector_x<T>::Zero(2)), anima::error);
-        CHECK_THROWS_AS(anima::levenberg_marquardt<T>(nan_residuals, vector_x<T>()), anima::invalid_argument);
+        CHECK_THROWS_WITH_AS(anima::levenberg_marquardt<T>(nan_residuals, vector_x<T>()),
+                             "anima::levenberg_marquardt: the start point is empty", anima::invalid_argument);
         anima::levenberg_marquardt_params<T> params;
         params.initial_damping = T(0);
         auto fine = [](const vector_x<T>& x, vector_x<T>& r, matrix_x<T>* j) {

@@ -51,6 +51,13 @@ TEST_CASE_TEMPLATE("lerp is the raw blend; nlerp is normalised and takes the sho
     }
     const Q q = r.unit<Q>();
     CHECK(diff(anima::lerp(q, neg(q), T(0.5)), make<Q>(0, 0, 0, 0)) == 0);  // the long way round: no rotation
+    // A NaN or infinite t is refused, naming t, rather than blended into NaN.
+    for (const T t : {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::infinity()}) {
+        CHECK_THROWS_WITH_AS(anima::lerp(q, q, t), doctest::Contains("anima::lerp: t must be finite"),
+                             anima::invalid_argument);
+        CHECK_THROWS_WITH_AS(anima::nlerp(q, q, t), doctest::Contains("anima::nlerp: t must be finite"),
+                             anima::invalid_argument);
+    }
 }
 
 TEST_CASE_TEMPLATE("slerp follows the shorter great arc at constant speed", Q, ANIMA_QUAT_TYPES) {

@@ -48,8 +48,11 @@ public:
     /// Time from the first to the last frame.
     T duration() const noexcept { return frames_ > 1 ? frame_time_ * static_cast<T>(frames_ - 1) : T(0); }
 
+    /// A normal positive number, so that the frame rate 1 / frame_time is finite.
     void set_frame_time(T frame_time) {
-        check_positive("anima::clip", "frame time", frame_time);
+        using std::isfinite;
+        check_argument(frame_time >= std::numeric_limits<T>::min() && isfinite(frame_time), "anima::clip",
+                       "frame time", "positive, normal and finite", frame_time);
         frame_time_ = frame_time;
     }
 

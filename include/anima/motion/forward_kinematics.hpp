@@ -74,7 +74,8 @@ std::vector<Eigen::Matrix<T, 3, 1>> end_site_positions(const skeleton<T>& sk, co
 
 /// The lowest point a clip's figure reaches along `direction` (a unit
 /// vector, e.g. up): the least dot product of `direction` with any joint or
-/// End Site position in any frame; +infinity for a clip without frames.
+/// End Site position in any frame; +infinity for a clip without frames or
+/// without joints (there is no point to be lowest).
 template <class T>
 T lowest_along(const clip<T>& c, const Eigen::Matrix<T, 3, 1>& direction) {
     T lowest = std::numeric_limits<T>::infinity();

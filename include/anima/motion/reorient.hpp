@@ -8,6 +8,7 @@
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/figure.hpp>
+#include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/euler.hpp>
 
 #include <Eigen/Core>
@@ -23,10 +24,11 @@ namespace anima {
 /// Applies the rotation r to the whole clip, as if the world were turned by r:
 /// offsets, end sites and animated translations are rotated, and every local
 /// rotation q becomes r q r^-1 so that each global orientation G becomes r G r^-1.
-/// Global joint positions p become r p exactly.
+/// Global joint positions p become r p exactly. r is normalised here; a zero or
+/// non-finite r throws anima::invalid_argument.
 template <class T>
 clip<T> rotate_clip(const clip<T>& c, const Eigen::Quaternion<T>& r_in) {
-    const Eigen::Quaternion<T> r = r_in.normalized();
+    const auto r = detail::store<Eigen::Quaternion<T>>(detail::normalized_or_throw(detail::load(r_in), "anima::rotate_clip"));
     skeleton<T> sk;
     for (std::size_t j = 0; j < c.joints(); ++j) {
         const auto& jt = c.skeleton()[j];

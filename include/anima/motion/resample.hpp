@@ -28,9 +28,11 @@ std::size_t resampled_frame(std::size_t f, T source_frame_time, const clip<T>& r
 
 /// The clip sampled every frame_time seconds over the same duration (the last
 /// output frame is the last whole step that fits). An empty or one-frame clip
-/// keeps its frames.
+/// keeps its frames. Throws anima::invalid_argument when the output would take
+/// more than max_memory bytes (1 GiB by default; 0 lifts the limit), e.g. two
+/// frames a second apart resampled every nanosecond.
 template <class T>
-clip<T> resample(const clip<T>& c, T frame_time) {
+clip<T> resample(const clip<T>& c, T frame_time, double max_memory = 1024.0 * 1024.0 * 1024.0) {
     const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     check_positive("anima::resample", "frame time", frame_time);
     if (c.frames() < 2) {
@@ -39,8 +41,18 @@ clip<T> resample(const clip<T>& c, T frame_time) {
         return out;
     }
     // Tolerate rounding so that e.g. 1/120 -> 1/120 keeps the last frame.
-    const T steps = c.duration() / frame_time;
-    const auto n = static_cast<std::size_t>(std::floor(steps + T(1e-6))) + 1;
+    const double steps = std::floor(static_cast<double>(c.duration() / frame_time) + 1e-6);
+    std::size_t translated = 0;
+    for (std::size_t j = 0; j < c.joints(); ++j) translated += c.skeleton().translation_slot(j) >= 0 ? 1 : 0;
+    const double frame_bytes = static_cast<double>(sizeof(T) * (4 * c.joints() + 3 * translated));
+    const double bytes = (steps + 1) * frame_bytes;
+    if (!(steps < 1e18) || (max_memory > 0 && !(bytes <= max_memory)))
+        throw invalid_argument("anima::resample: frame time " + detail::argument_text(frame_time) + " over " +
+                               detail::argument_text(c.duration()) + " s makes " + detail::argument_text(steps + 1) +
+                               " frames, about " + detail::argument_text(std::ceil(bytes / 1048576.0)) +
+                               " MiB, more than max_memory (" + detail::argument_text(max_memory / 1048576.0) +
+                               " MiB)");
+    const auto n = static_cast<std::size_t>(steps) + 1;
     clip<T> out(c.skeleton(), n, frame_time);
     for (std::size_t f = 0; f < n; ++f) {
         const T s = std::min(static_cast<T>(f) * frame_time / c.frame_time(), static_cast<T>(c.frames() - 1));

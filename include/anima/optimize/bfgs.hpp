@@ -80,7 +80,7 @@ struct lbfgs_memory {
 /// anima::error if f or its gradient is not finite at x0.
 template <class T, class F>
 optimize_result<T> bfgs_minimize(F&& f, vector_x<T> x0, const bfgs_params<T>& params = {}) {
-    detail::check_start(x0, "bfgs_minimize");
+    detail::check_start(x0, "anima::bfgs_minimize");
     if (params.max_iterations < 0 || params.memory < 0 || !(params.gradient_tolerance >= T(0)) ||
         !(params.value_tolerance >= T(0))) {
         throw invalid_argument("bfgs_minimize: max_iterations, memory and tolerances must not be negative");

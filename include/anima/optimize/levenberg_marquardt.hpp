@@ -43,7 +43,7 @@ struct levenberg_marquardt_params {
 /// the residuals or Jacobian are not finite at x0 or change size.
 template <class T, class R>
 optimize_result<T> levenberg_marquardt(R&& r, vector_x<T> x0, const levenberg_marquardt_params<T>& params = {}) {
-    detail::check_start(x0, "levenberg_marquardt");
+    detail::check_start(x0, "anima::levenberg_marquardt");
     if (params.max_iterations < 0 || !(params.gradient_tolerance >= T(0)) || !(params.step_tolerance >= T(0)) ||
         !(params.value_tolerance >= T(0)) || !(params.initial_damping > T(0))) {
         throw invalid_argument(

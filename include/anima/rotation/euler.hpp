@@ -7,6 +7,7 @@
 // Angles are in radians.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
@@ -119,8 +120,12 @@ std::array<T, 3> matrix_to_euler(const std::array<std::array<T, 3>, 3>& R, euler
 }  // namespace detail
 
 /// Quaternion of the rotation R_{a0 axis}(a0) * R_{a1 axis}(a1) * R_{a2 axis}(a2).
+/// Throws anima::invalid_argument for a non-finite angle.
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q from_euler(quat_scalar_t<Q> a0, quat_scalar_t<Q> a1, quat_scalar_t<Q> a2, euler_order order) {
+    check_finite("anima::from_euler", "a0", a0);
+    check_finite("anima::from_euler", "a1", a1);
+    check_finite("anima::from_euler", "a2", a2);
     const auto ax = axes_of(order);
     return detail::store<Q>(detail::axis_rotation(ax[0], a0) * detail::axis_rotation(ax[1], a1) *
                             detail::axis_rotation(ax[2], a2));

@@ -13,6 +13,7 @@
 #include <anima/core/scalar_value.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <initializer_list>
@@ -193,6 +194,26 @@ quat4<S> exp_pure(const S& vx, const S& vy, const S& vz) {
     S c, k;
     cos_and_sinc(S(vx * vx + vy * vy + vz * vz), c, k);
     return {c, k * vx, k * vy, k * vz};
+}
+
+/// exp_pure for the public entry points: refuses a non-finite vector (naming
+/// `what`), and stays exact when |v|^2 overflows though |v| does not (|v|
+/// above about 1.8e19 in float): cos and sin of the length found by scaling.
+template <class T>
+quat4<T> exp_pure_checked(T vx, T vy, T vz, const char* who, const char* what) {
+    if (!std::isfinite(vx) || !std::isfinite(vy) || !std::isfinite(vz))
+        throw invalid_argument(std::string(who) + ": " + what + " must be finite, got (" + argument_text(vx) + ", " +
+                               argument_text(vy) + ", " + argument_text(vz) + ")");
+    if (vx * vx + vy * vy + vz * vz <= std::numeric_limits<T>::max()) return exp_pure(vx, vy, vz);
+    const T m = std::max({std::abs(vx), std::abs(vy), std::abs(vz)});
+    const T a = vx / m, b = vy / m, c = vz / m;  // the largest is exactly +-1
+    const T r = std::sqrt(a * a + b * b + c * c);
+    const T n = m * r;
+    if (!std::isfinite(n))
+        throw invalid_argument(std::string(who) + ": the length of " + what + " overflows, largest component " +
+                               argument_text(m));
+    const T s = std::sin(n);
+    return {std::cos(n), s * (a / r), s * (b / r), s * (c / r)};
 }
 
 /// Vector part of log of a unit quaternion: theta * axis where q = (cos theta, sin theta axis),
