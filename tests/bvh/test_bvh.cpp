@@ -960,6 +960,8 @@ TEST_CASE("malformed input raises anima::parse_error with the line and the reaso
         {"negative Frame Time", tiny_with(23, "Frame Time: -0.1"), 23, {"frame time must be positive", "-0.1"}},
         {"zero Frame Time", tiny_with(23, "Frame Time: 0"), 23, {"frame time must be positive"}},
         {"zero Frame Time (0.0e0)", tiny_with(23, "Frame Time:0.0e0"), 23, {"frame time must be positive"}},
+        // Subnormal in double (and so in float): the frame rate would be infinite.
+        {"subnormal Frame Time", tiny_with(23, "Frame Time: 1e-310"), 23, {"positive and normal", "1e-310"}},
         {"non-numeric Frame Time", tiny_with(23, "Frame Time: fast"), 23, {"'fast'", "frame time"}},
         {"NaN Frame Time", tiny_with(23, "Frame Time: nan"), 23, {"non-finite", "frame time"}},
         // frame lines
@@ -979,6 +981,20 @@ TEST_CASE("a truncated file says that it ends") {
     check_bad({"ends inside an End Site", tiny_first(15), 15, {"ends", "End Site"}});
     check_bad({"ends after MOTION", tiny_first(21), 21, {"ends", "Frames:"}});
     check_bad({"ends after Frames", tiny_first(22), 22, {"ends", "Frame Time"}});
+}
+
+TEST_CASE("a Frame Time subnormal in float is refused in float only, on its line; subnormal values read as 0") {
+    const std::string text = tiny_with(23, "Frame Time: 1e-40");
+    CHECK(anima::parse_bvh<double>(text, "tiny.bvh").frame_time() == 1e-40);
+    CHECK_THROWS_WITH_AS(anima::parse_bvh<float>(text, "tiny.bvh"),
+                         "tiny.bvh:23: frame time must be positive and normal, got 1e-40", anima::parse_error);
+    // A value subnormal in float is read as 0 there, exactly in double.
+    const auto f = anima::parse_bvh_document<float>(tiny_with(24, "1e-40 2 3 10 20 30 0 0 0 5 5 -1e-39"));
+    const auto d = anima::parse_bvh_document<double>(tiny_with(24, "1e-40 2 3 10 20 30 0 0 0 5 5 -1e-39"));
+    CHECK(f.values.front() == 0.0f);
+    CHECK(f.values[11] == 0.0f);
+    CHECK(d.values.front() == 1e-40);
+    CHECK(d.values[11] == -1e-39);
 }
 
 TEST_CASE("a huge Frames: count with little data fails cleanly") {

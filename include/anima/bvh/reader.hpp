@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -117,7 +118,9 @@ private:
         }
         const T x = static_cast<T>(v);
         if (!std::isfinite(x)) fail(line, std::string("non-finite value '") + std::string(t) + "' (" + what + ")");
-        return x;
+        // A subnormal (below 1.2e-38 in float) is stored as 0: arithmetic on
+        // subnormals is many times slower, and no motion is that small.
+        return std::abs(x) < std::numeric_limits<T>::min() ? T(0) : x;
     }
 
     template <class T>
@@ -266,7 +269,9 @@ private:
             fail(tok_line_, "expected 'Frame Time:'");
         }
         doc.frame_time = number<T>(time, tok_line_, "frame time");
-        if (!(doc.frame_time > T(0))) fail(tok_line_, "frame time must be positive, got " + std::string(time));
+        // Normal, so that the frame rate 1 / frame time is finite (as clip asks).
+        if (!(doc.frame_time >= std::numeric_limits<T>::min()))
+            fail(tok_line_, "frame time must be positive and normal, got " + std::string(time));
         const std::size_t time_line = tok_line_;
         const std::string_view after = rest_of_line();
         if (!after.empty()) fail(time_line, "unexpected '" + std::string(after) + "' after the frame time");
