@@ -428,6 +428,41 @@ TEST_CASE_TEMPLATE("CCD with orientation, pose and aim goals on the CMU arm", T,
     CHECK(converged >= 8);  // 8 of 10 in double: CCD stalls short of the others
 }
 
+TEST_CASE_TEMPLATE("CCD moves a translating root: out-of-reach targets are met, the limbs share a reachable one", T,
+                   double, float) {
+    const auto walk = read_bvh<T>(bundled("walk_cmu31_02_01.bvh"));
+    const auto& sk = walk.skeleton();
+    const std::size_t hand = sk.index_of("LeftHand");
+    kinematic_tree<T> body(sk);
+    body.set_root_translation(true);
+    body.set_base(walk, 40);
+    const ik_vector<T> q0 = body.pose_of(walk, 40);
+    ik_state<T> s0;
+    body.forward(q0, s0);
+    ik_params<T> p;
+    p.tolerance = tolerance<T>(1e-6, 1e-3);
+    p.max_iterations = 200;
+    // 30 units ahead of the hand, beyond the arm's reach (the figure is about
+    // 30 units tall): CCD used to leave the root where it was ("unreachable").
+    const vec3<T> far = s0.positions[hand] + vec3<T>(0, 0, 30);
+    const auto r = solve_ik_ccd(body, {position_goal<T>(hand, far)}, q0, p);
+    CHECK(r.converged());
+    ik_state<T> s;
+    body.forward(r.q, s);
+    CHECK((s.positions[hand] - far).norm() <= p.tolerance * T(1.01));
+    CHECK((r.q.template head<3>() - q0.template head<3>()).norm() > T(1));
+    // Without root translation the same target is out of reach.
+    kinematic_tree<T> fixed_root(sk);
+    fixed_root.set_base(walk, 40);
+    CHECK_FALSE(solve_ik_ccd(fixed_root, {position_goal<T>(hand, far)}, fixed_root.pose_of(walk, 40), p).converged());
+    // A target 2 units away, within the arm's reach: the root takes what the
+    // limbs' swings leave of each sweep (about 1 unit here), not all of it.
+    const vec3<T> near = s0.positions[hand] + vec3<T>(0, 0, 2);
+    const auto rn = solve_ik_ccd(body, {position_goal<T>(hand, near)}, q0, p);
+    CHECK(rn.converged());
+    CHECK((rn.q.template head<3>() - q0.template head<3>()).norm() < T(1.5));
+}
+
 namespace {
 
 /// One hinge about z at the origin carrying a point at (L, 0, 0): the point

@@ -1105,6 +1105,9 @@ TEST_CASE_TEMPLATE("scale_clip scales global positions; with_rotation_order keep
     CHECK(anima::guess_units(scaled.skeleton(), {anima::axis::y, 1}).name == "metres");
     for (T bad : {T(0), T(-1), std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::infinity()})
         CHECK_THROWS_AS(anima::scale_clip(c, bad), anima::invalid_argument);
+    // A finite scale that overflows a position names scale_clip, not clip::set_translation.
+    CHECK_THROWS_WITH_AS(anima::scale_clip(c, std::numeric_limits<T>::max() / T(10)),
+                         doctest::Contains("anima::scale_clip: scale"), anima::invalid_argument);
 
     for (auto order : {anima::euler_order::xyz, anima::euler_order::xzy, anima::euler_order::yxz,
                        anima::euler_order::yzx, anima::euler_order::zxy, anima::euler_order::zyx}) {

@@ -582,6 +582,29 @@ anima::clip<T> resequenced(const anima::clip<T>& source, const std::vector<std::
 
 }  // namespace
 
+TEST_CASE_TEMPLATE("resequence: a root path that overflows names resequence and the frame", T, float, double) {
+    // Two frames at +-max/4: each step is max/2 along the ground; played
+    // back and forth with keep_direction the root goes on from -max/4 to
+    // max/4, 3 max/4, and overflows at output frame 3.
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    anima::skeleton<T> sk;
+    sk.add_joint("hip", -1, vec3(0, 1, 0),
+                 {anima::channel::x_position, anima::channel::y_position, anima::channel::z_position,
+                  anima::channel::z_rotation, anima::channel::x_rotation, anima::channel::y_rotation});
+    anima::clip<T> c(sk, 2, T(1) / 30);
+    const T quarter = std::numeric_limits<T>::max() / T(4);
+    c.set_root_position(0, vec3(-quarter, 1, 0));
+    c.set_root_position(1, vec3(quarter, 1, 0));
+    anima::resequence_params p;
+    p.root = anima::root_path::keep_direction;
+    p.up = anima::signed_axis{anima::axis::y, 1};
+    CHECK_THROWS_WITH_AS(anima::resequence(c, {0, 1, 0, 1}, p),
+                         doctest::Contains("anima::resequence: the accumulated root path overflows the scalar type at "
+                                           "output frame 3"),
+                         anima::invalid_argument);
+    CHECK_NOTHROW(anima::resequence(c, {0, 1, 0}, p));
+}
+
 TEST_CASE_TEMPLATE("resequence: every policy copies the pose and takes the height from the source frame", T, float, double) {
     const auto& c = walk<T>();
     // Forwards, backwards, a repeated frame and two jumps.

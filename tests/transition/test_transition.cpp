@@ -1060,6 +1060,105 @@ TEST_CASE("errors: hierarchies, frames, sizes, parameters") {
     CHECK_THROWS_AS(anima::measure_transition(broken, roles, c.up, 0.01), anima::invalid_argument);
 }
 
+TEST_CASE_TEMPLATE("degenerate input: no joints, unbounded durations, bad windows and turns name the function and "
+                   "argument",
+                   T, float, double) {
+    const anima::clip<T>& r = run<T>();
+    using quat = Eigen::Quaternion<T>;
+    const auto message = [](auto&& f) { return thrown_message(f); };
+    const auto has = [](const std::string& m, const char* part) {
+        CAPTURE(m);
+        CHECK(m.find(part) != std::string::npos);
+    };
+    // A skeleton without joints: refused by every entry point (Eigen aborted
+    // in classify_motion, the baselines blamed clip::rotation).
+    const anima::clip<T> none(anima::skeleton<T>{}, 5, T(1) / 30);
+    has(message([&] { anima::classify_motion(none, {}); }), "anima::classify_motion: the clip has frames but no joints");
+    CHECK(anima::classify_motion(anima::clip<T>(anima::skeleton<T>{}, 0, T(1) / 30), {}).type ==
+          motion_class::on_the_spot);
+    has(message([&] { anima::make_transition(none, 2, none, 0); }), "anima::make_transition: the clips have no joints");
+    has(message([&] { anima::direct_cut(none, 2, none, 0); }), "anima::direct_cut: the clips have no joints");
+    has(message([&] { anima::crossfade(none, 2, none, 0, T(0.1)); }), "anima::crossfade: the clips have no joints");
+    has(message([&] { anima::inertialize(none, 2, none, 0, T(0.1)); }), "anima::inertialize: the clips have no joints");
+
+    // max_duration infinite, or a transition too long to hold (1e5 s at 120 Hz took 14 GB).
+    anima::transition_params p;
+    p.timing.min_duration = p.timing.max_duration = std::numeric_limits<double>::infinity();
+    has(message([&] { anima::make_transition(r, 60, r, 0, p); }), "timing_params::min_duration must be");
+    p.timing.min_duration = 0.1;
+    has(message([&] { anima::make_transition(r, 60, r, 0, p); }),
+        "anima::make_transition: timing_params::max_duration must be finite and at least min_duration (0.1), got inf");
+    p.timing.min_duration = p.timing.max_duration = 1e5;
+    has(message([&] { anima::make_transition(r, 60, r, 0, p); }), "more than transition_params::max_memory");
+    anima::transition_frames<T> frames;
+    anima::transition_workspace<T> ws;
+    has(message([&] { anima::make_transition_into(r, 60, r, 0, p, frames, ws); }),
+        "anima::make_transition_into: a transition of 1e+05 s");
+    // A huge max_duration is only a bound: the transition takes what the motion asks.
+    p = {};
+    p.timing.max_duration = 1e9;
+    CHECK(anima::make_transition(r, 60, r, 0, p).duration < T(2));
+    p.max_memory = 0;  // no limit: a 2 s transition still runs
+    p.timing.min_duration = p.timing.max_duration = 2;
+    CHECK(anima::make_transition(r, 60, r, 0, p).duration == doctest::Approx(2.0).epsilon(0.01));
+
+    // Parameters name themselves and their value.
+    p = {};
+    p.root_window = std::numeric_limits<double>::infinity();
+    has(message([&] { anima::make_transition(r, 60, r, 0, p); }), "transition_params::root_window must be");
+    p = {};
+    p.gravity_factor = std::numeric_limits<double>::quiet_NaN();
+    has(message([&] { anima::make_transition(r, 60, r, 0, p); }), "transition_params::gravity_factor must be finite");
+    p = {};
+    p.classification.metres_per_unit = std::numeric_limits<double>::quiet_NaN();
+    has(message([&] { anima::make_transition(r, 60, r, 0, p); }),
+        "anima::make_transition: classify_params::metres_per_unit must be positive and finite, got nan");
+    p = {};
+    p.large_angle = std::numeric_limits<double>::infinity();  // no joint uses squad
+    for (const auto method : anima::make_transition(r, 60, r, 0, p).methods) CHECK(method != interpolation::squad);
+    has(message([&] { anima::crossfade(r, 60, r, 0, T(-1)); }), "anima::crossfade: duration must be non-negative and finite, got -1");
+
+    // A turn that is no rotation: refused (NaN timing silently dropped the root).
+    const auto roles = anima::joint_roles(r.skeleton());
+    const T nan = std::numeric_limits<T>::quiet_NaN();
+    has(message([&] { anima::variable_timing(r, 60, r, 0, roles, quat(nan, 0, 0, 0)); }),
+        "anima::variable_timing: b_root_turn");
+    has(message([&] { anima::variable_timing(r, 60, r, 0, roles, quat(0, 0, 0, 0)); }),
+        "anima::variable_timing: b_root_turn");
+    // A scaled turn is the same turn, also where its squared norm overflows float.
+    const quat turn(Eigen::AngleAxis<T>(T(0.7), Eigen::Matrix<T, 3, 1>::UnitY()));
+    const auto unit = anima::variable_timing(r, 60, r, 0, roles, turn);
+    const auto scaled = anima::variable_timing(r, 60, r, 0, roles, quat(turn.coeffs() * T(1e30)));
+    CHECK(scaled.joints[0].angle == doctest::Approx(double(unit.joints[0].angle)).epsilon(1e-5));
+    CHECK(scaled.duration == doctest::Approx(double(unit.duration)).epsilon(1e-5));
+    has(message([&] { anima::interpolation_parameter(nan, T(1), anima::easing::linear); }),
+        "anima::interpolation_parameter: t and total must not be NaN");
+
+    // A joined window outside the clip: plant_transition_feet refuses it as
+    // measure_transition does (it returned the window unchanged).
+    auto joined = anima::direct_cut(r, 60, r, 0);
+    joined.start_frame = 100;
+    joined.end_frame = 5000;
+    has(message([&] { anima::plant_transition_feet(joined); }), "anima::plant_transition_feet: transition frames [100, 5000]");
+    joined.end_frame = 50;
+    has(message([&] { anima::plant_transition_feet(joined); }), "are not inside the clip");
+    has(message([&] {
+            anima::measure_transition(anima::direct_cut(r, 60, r, 0), roles, anima::signed_axis{},
+                                      std::numeric_limits<double>::infinity());
+        }),
+        "anima::measure_transition: metres_per_unit must be positive and finite, got inf");
+
+    // Inertialization with the smallest normal half-life is a cut with no
+    // NaN (y x0 overflowed, times a decay of 0); a subnormal one is refused.
+    const auto cut = anima::inertialize(r, 60, r, 0, std::numeric_limits<T>::min());
+    for (std::size_t f = 0; f < cut.motion.frames(); ++f)
+        for (std::size_t j = 0; j < cut.motion.joints(); ++j) REQUIRE(cut.motion.rotation(f, j).coeffs().allFinite());
+    has(message([&] { anima::inertialize(r, 60, r, 0, std::numeric_limits<T>::denorm_min()); }),
+        "anima::inertialize: halflife must be positive, normal and finite");
+    // A crossfade longer than size_t can count blends over what B has.
+    CHECK(anima::crossfade(r, 60, r, 0, T(1e30)).motion.frames() == 61 + r.frames());
+}
+
 TEST_CASE("baselines: direct cut, crossfade, inertialization") {
     const auto& a = run<double>();
     const clipd b = moved(a, about(-50, up), vec3(-100, 0, 250));

@@ -6,7 +6,9 @@
 // current orientation (or axis) to the target; a pose goal uses its
 // position's swing on the ancestors and its orientation on its own joint.
 // Line, plane and half-space goals swing toward the nearest point that
-// meets them. Several goals are visited in turn each sweep.
+// meets them. A tree with root translation moves the root last, by the
+// step that puts the effector on its aim point. Several goals are visited
+// in turn each sweep.
 #pragma once
 
 #include <anima/core/constants.hpp>
@@ -110,6 +112,14 @@ ik_result<T> solve_ik_ccd(const kinematic_tree<T>& tree, std::vector<ik_goal<T>>
                         const quat local = parent.conjugate() * turn * s.orientations[ju];
                         q.template segment<3>(d0) = to_rotation_vector(local.normalized());
                     }
+                    if (params.limits) q = tree.clamp(q);
+                }
+                if (tree.root_translation() && g.has_position()) {
+                    // The root's translation DOFs, last: the step that puts
+                    // the effector on its aim point.
+                    tree.forward_unchecked(q, s);
+                    const vec3 x = effector_position(s, g);
+                    q.template head<3>() += detail::ccd_aim_point(g, x) - x;
                     if (params.limits) q = tree.clamp(q);
                 }
             }

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -71,6 +72,17 @@ clip<T> change_up_axis(const clip<T>& c, signed_axis from, signed_axis to) {
 template <class T>
 clip<T> scale_clip(const clip<T>& c, T s) {
     check_positive("anima::scale_clip", "scale", s);
+    T largest = 0;  // refuse up front a scale that overflows a position
+    for (std::size_t j = 0; j < c.joints(); ++j) {
+        const auto& jt = c.skeleton()[j];
+        largest = std::max(largest, jt.offset.cwiseAbs().maxCoeff());
+        if (jt.end_site) largest = std::max(largest, jt.end_site->cwiseAbs().maxCoeff());
+    }
+    for (const auto& t : c.translations()) largest = std::max(largest, t.cwiseAbs().maxCoeff());
+    if (!std::isfinite(largest * s))
+        throw invalid_argument("anima::scale_clip: scale " + detail::argument_text(s) +
+                               " makes a position overflow the scalar type (largest component " +
+                               detail::argument_text(largest) + ")");
     skeleton<T> sk;
     for (std::size_t j = 0; j < c.joints(); ++j) {
         const auto& jt = c.skeleton()[j];

@@ -97,6 +97,9 @@ clip<T> resequence(const clip<T>& source, const std::vector<std::size_t>& indice
                 step = f > 0 ? ground(at(f) - at(f - 1)) : (source.frames() > 1 ? ground(at(1) - at(0)) : vec3::Zero());
             }
             position += step;
+            if (!position.allFinite())
+                throw invalid_argument("anima::resequence: the accumulated root path overflows the scalar type at "
+                                       "output frame " + std::to_string(k) + "; scale the clip down (scale_clip)");
         }
         vec3 p = position;
         p[up] = at(f)[up];

@@ -8,6 +8,7 @@
 // root, like the variable-timing transition, and return a joined_clip.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
@@ -24,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +41,7 @@ template <class T>
 clip<T> place_after(const clip<T>& a, std::size_t trigger, const clip<T>& b_in, std::size_t b_start,
                     std::optional<signed_axis> up_axis, const char* who) {
     check_same_hierarchy(a.skeleton(), b_in.skeleton());
+    if (a.joints() == 0) throw invalid_argument(std::string(who) + ": the clips have no joints");
     if (trigger >= a.frames() || b_start >= b_in.frames())
         throw invalid_argument(std::string(who) + ": trigger frame " + std::to_string(trigger) + " of " +
                                std::to_string(a.frames()) + " or start frame " + std::to_string(b_start) + " of " +
@@ -89,19 +92,22 @@ joined_clip<T> direct_cut(const clip<T>& a, std::size_t trigger, const clip<T>& 
 template <class T>
 joined_clip<T> crossfade(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start, T duration,
                          std::optional<signed_axis> up = std::nullopt) {
+    check_non_negative("anima::crossfade", "duration", duration);
     const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
-    if (!(duration >= T(0)) || !std::isfinite(duration))
-        throw invalid_argument("anima::crossfade: duration must be non-negative and finite");
     const clip<T> pb = detail::place_after(a, trigger, b, b_start, up, "anima::crossfade");
-    const auto steps = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(duration / a.frame_time())));
+    // Steps of the blend, counted in T: a long duration need not fit a size_t.
+    const T steps = std::max(T(1), std::round(duration / a.frame_time()));
     joined_clip<T> out;
     out.motion = a.slice(0, trigger + 1);
     // At least one frame of B must follow the blend: it is where B takes over.
-    clip<T> blend(a.skeleton(), std::min(steps - 1, pb.frames() - 1), a.frame_time());
+    const std::size_t blended = steps - T(1) < static_cast<T>(pb.frames() - 1)
+                                    ? static_cast<std::size_t>(steps) - 1
+                                    : pb.frames() - 1;
+    clip<T> blend(a.skeleton(), blended, a.frame_time());
     // A continues from its own root path; B was placed one frame ahead of the
     // trigger, so B's frame k - 1 lines up with A's frame trigger + k.
     for (std::size_t k = 1; k <= blend.frames(); ++k) {
-        const T w = static_cast<T>(k) / static_cast<T>(steps);
+        const T w = static_cast<T>(k) / steps;
         const std::size_t fa = std::min(trigger + k, a.frames() - 1), fb = k - 1;
         for (std::size_t j = 0; j < a.joints(); ++j) {
             blend.set_rotation(k - 1, j, slerp(a.rotation(fa, j), pb.rotation(fb, j), w));
@@ -117,11 +123,15 @@ joined_clip<T> crossfade(const clip<T>& a, std::size_t trigger, const clip<T>& b
 }
 
 /// Critically damped decay of an offset x0 with velocity v0 towards zero:
-/// x(t) = (x0 + (v0 + y x0) t) e^(-y t), y = 2 ln 2 / halflife.
+/// x(t) = (x0 + (v0 + y x0) t) e^(-y t), y = 2 ln 2 / halflife. Written with
+/// y t so that a half-life far below t (y overflowing y x0) decays to 0
+/// rather than to inf * 0.
 template <class V, class T>
 V spring_decay(const V& x0, const V& v0, T halflife, T t) {
-    const T y = T(2) * T(0.69314718055994530942) / halflife;
-    return (x0 + (v0 + y * x0) * t) * std::exp(-y * t);
+    const T yt = T(2) * T(0.69314718055994530942) / halflife * t;
+    const T decay = std::exp(-yt);
+    if (decay == T(0)) return x0 * T(0);
+    return (x0 + v0 * t + x0 * yt) * decay;
 }
 
 /// A[0..trigger] followed at once by the placed B, corrected by offsets that
@@ -133,11 +143,12 @@ V spring_decay(const V& x0, const V& v0, T halflife, T t) {
 template <class T>
 joined_clip<T> inertialize(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start, T halflife,
                            std::optional<signed_axis> up = std::nullopt) {
+    // Normal: a subnormal half-life would overflow 1 / halflife.
+    check_argument(halflife >= std::numeric_limits<T>::min() && std::isfinite(halflife), "anima::inertialize",
+                   "halflife", "positive, normal and finite", halflife);
     const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     using vec3 = Eigen::Matrix<T, 3, 1>;
     using quat = Eigen::Quaternion<T>;
-    if (!(halflife > T(0)) || !std::isfinite(halflife))
-        throw invalid_argument("anima::inertialize: half-life must be positive and finite");
     const clip<T> pb = detail::place_after(a, trigger, b, b_start, up, "anima::inertialize");
     const T dt = a.frame_time();
     const std::size_t nj = a.joints();

@@ -13,6 +13,7 @@
 // metres_per_unit, guessed from the figure's height unless given.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/flush_denormals.hpp>
@@ -67,21 +68,25 @@ struct motion_classification {
 };
 
 namespace detail {
-inline void check_classify_params(const classify_params& p) {
-    if (!(p.on_spot_distance > 0) || !(p.contact_speed > 0) || !(p.flight_min_time >= 0) || !(p.flight_hip_rise >= 0) ||
-        (p.metres_per_unit && !(*p.metres_per_unit > 0)))
-        throw invalid_argument("anima::classify_motion: thresholds and metres_per_unit must be positive");
+/// The checks of classify_params; the errors name `who`.
+inline void check_classify_params(const classify_params& p, const char* who) {
+    check_positive(who, "classify_params::on_spot_distance", p.on_spot_distance);
+    check_positive(who, "classify_params::contact_speed", p.contact_speed);
+    check_non_negative(who, "classify_params::flight_min_time", p.flight_min_time);
+    check_non_negative(who, "classify_params::flight_hip_rise", p.flight_hip_rise);
+    if (p.metres_per_unit) check_positive(who, "classify_params::metres_per_unit", *p.metres_per_unit);
 }
 }  // namespace detail
 
 /// Classifies a clip. `roles` (from joint_roles) tells which joints are feet. A clip without foot
 /// joints is classified from the root alone (its horizontal range, and its
-/// rise for flight). Empty clips are on the spot.
+/// rise for flight). Empty clips are on the spot; a clip with frames but no
+/// joints throws anima::invalid_argument.
 template <class T>
 motion_classification classify_motion(const clip<T>& c, const std::vector<joint_role>& roles,
                                        const classify_params& params = {}) {
     const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
-    detail::check_classify_params(params);
+    detail::check_classify_params(params, "anima::classify_motion");
     if (roles.size() != c.joints())
         throw invalid_argument("anima::classify_motion: " + std::to_string(roles.size()) + " roles for " +
                                std::to_string(c.joints()) + " joints");
@@ -89,6 +94,7 @@ motion_classification classify_motion(const clip<T>& c, const std::vector<joint_
     out.up = params.up ? *params.up : guess_up_axis(c.skeleton()).up;
     out.metres_per_unit = params.metres_per_unit ? *params.metres_per_unit : guess_units(c.skeleton(), out.up).metres_per_unit;
     if (c.frames() == 0) return out;
+    if (c.joints() == 0) throw invalid_argument("anima::classify_motion: the clip has frames but no joints");
     const double m = out.metres_per_unit;
     const int k = static_cast<int>(out.up.axis);
 

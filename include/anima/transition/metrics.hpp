@@ -4,6 +4,7 @@
 // (and how much feet in contact skate there, against the clips' own skate).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/contacts.hpp>
@@ -49,11 +50,8 @@ transition_quality<T> measure_transition(const joined_clip<T>& joined, const std
     if (roles.size() != c.joints())
         throw invalid_argument("anima::measure_transition: " + std::to_string(roles.size()) + " roles for " +
                                std::to_string(c.joints()) + " joints");
-    if (joined.start_frame > joined.end_frame || joined.end_frame >= c.frames())
-        throw invalid_argument("anima::measure_transition: transition frames [" + std::to_string(joined.start_frame) +
-                               ", " + std::to_string(joined.end_frame) + "] are not inside the clip (" +
-                               std::to_string(c.frames()) + " frames)");
-    if (!(metres_per_unit > 0)) throw invalid_argument("anima::measure_transition: metres_per_unit must be positive");
+    detail::check_joined_window(joined, "anima::measure_transition");
+    check_positive("anima::measure_transition", "metres_per_unit", metres_per_unit);
     transition_quality<T> q;
     const T dt = c.frame_time();
     const T m = static_cast<T>(metres_per_unit);

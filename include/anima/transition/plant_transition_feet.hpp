@@ -222,6 +222,7 @@ void root_from_feet(clip<T>& c, frame_interval window, const contact_set<T>& con
 /// as it is.
 template <class T>
 joined_clip<T> plant_transition_feet(const joined_clip<T>& joined, transition_feet_params<T> params = {}) {
+    detail::check_joined_window(joined, "anima::plant_transition_feet");
     check_non_negative("anima::plant_transition_feet", "root_ramp_seconds", params.root_ramp_seconds);
     check_in_range("anima::plant_transition_feet", "root_ramp_fraction", params.root_ramp_fraction, T(0), T(0.5));
     check_in_range("anima::plant_transition_feet", "root_acceleration_quantile", params.root_acceleration_quantile, T(0),

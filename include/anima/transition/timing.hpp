@@ -13,6 +13,7 @@
 // joint at rest does not ask for an infinite transition.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/constants.hpp>
 #include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
@@ -61,9 +62,13 @@ struct enum_names<easing> {
     static constexpr enum_entry<easing> entries[] = {{easing::linear, "linear"}, {easing::ease_in_out, "ease_in_out"}};
 };
 
-/// h(t) for t in [0, total], clamped to [0, 1].
+/// h(t) for t in [0, total], clamped to [0, 1]; 1 when total <= 0. Throws
+/// anima::invalid_argument for a NaN t or total.
 template <class T>
 T interpolation_parameter(T t, T total, easing e) {
+    if (std::isnan(t) || std::isnan(total))
+        throw invalid_argument("anima::interpolation_parameter: t and total must not be NaN, got " +
+                               detail::argument_text(t) + " and " + detail::argument_text(total));
     if (!(total > T(0))) return T(1);
     const T u = std::clamp(t / total, T(0), T(1));
     if (e == easing::linear) return u;
@@ -292,6 +297,17 @@ void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, co
     mean_rates(s, count, nj, steps, dt);
 }
 
+/// The checks of timing_params; the errors name `who`.
+inline void check_timing_params(const timing_params& p, const char* who) {
+    check_non_negative(who, "timing_params::min_duration", p.min_duration);
+    if (!(p.max_duration >= p.min_duration) || !std::isfinite(p.max_duration))  // the message only when it fails
+        check_argument(false, who, "timing_params::max_duration",
+                       "finite and at least min_duration (" + argument_text(p.min_duration) + ")", p.max_duration);
+    check_positive(who, "timing_params::min_speed", p.min_speed);
+    check_positive(who, "timing_params::min_acceleration", p.min_acceleration);
+    check_non_negative(who, "timing_params::speed_window", p.speed_window);
+}
+
 /// variable_timing into `out`, whose joint vector is reused, with `scratch`
 /// kept from call to call.
 template <class T>
@@ -304,9 +320,8 @@ void variable_timing_into(const clip<T>& a, std::size_t trigger, const clip<T>& 
                                std::to_string(b.frames()) + " out of range");
     if (roles.size() != a.joints() || a.joints() != b.joints())
         throw invalid_argument("anima::variable_timing: roles, clip A and clip B must have the same joint count");
-    if (!(params.min_duration >= 0) || !(params.max_duration >= params.min_duration) || !(params.min_speed > 0) ||
-        !(params.min_acceleration > 0) || !(params.speed_window >= 0))
-        throw invalid_argument("anima::variable_timing: need 0 <= min_duration <= max_duration and positive floors");
+    check_timing_params(params, "anima::variable_timing");
+    const auto turn = store<Eigen::Quaternion<T>>(normalized_or_throw(load(b_root_turn), "anima::variable_timing: b_root_turn"));
     const std::size_t nj = a.joints();
     out.joints.resize(nj);
     out.limiting_joint = 0;
@@ -331,7 +346,7 @@ void variable_timing_into(const clip<T>& a, std::size_t trigger, const clip<T>& 
         out.joints[joint_of(k)].speed_a = scratch.mean_speed[k];
         out.joints[joint_of(k)].acceleration_a = scratch.mean_acceleration[k];
     }
-    joint_rates(b, static_cast<std::ptrdiff_t>(b_start), static_cast<std::ptrdiff_t>(b_start) + window, &b_root_turn,
+    joint_rates(b, static_cast<std::ptrdiff_t>(b_start), static_cast<std::ptrdiff_t>(b_start) + window, &turn,
                 picked, scratch);
     for (std::size_t k = 0; k < measured; ++k) {
         out.joints[joint_of(k)].speed_b = scratch.mean_speed[k];
@@ -345,7 +360,7 @@ void variable_timing_into(const clip<T>& a, std::size_t trigger, const clip<T>& 
         jt.key = key_joint_role(roles[j]);
         // Only the root is turned.
         const Eigen::Quaternion<T>& b_pose = b.rotation(b_start, j);
-        jt.angle = angle_between(a.rotation(trigger, j), j == 0 ? Eigen::Quaternion<T>(b_root_turn * b_pose) : b_pose);
+        jt.angle = angle_between(a.rotation(trigger, j), j == 0 ? Eigen::Quaternion<T>(turn * b_pose) : b_pose);
         if (!params.every_joint && !jt.key) {
             jt.time = unmeasured;
         } else if (params.model == timing_model::velocity) {

@@ -86,6 +86,9 @@ struct transition_params {
     /// Eq 12's end point and B's velocity). false: Eq 12 as printed, whose
     /// velocity jumps where B starts. Flight paths are Eq 13 either way.
     bool continuous_root = true;
+    /// Bytes the in-between frames may take (1 GiB): a longer transition is
+    /// refused before they are allocated. 0: no limit.
+    double max_memory = 1024.0 * 1024.0 * 1024.0;
 };
 
 /// A transition without a copy of clip B: what make_transition_into writes
@@ -146,6 +149,7 @@ template <class T>
 void check_transition(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
                       const transition_params& params, const char* who) {
     check_same_hierarchy(a.skeleton(), b.skeleton());
+    if (a.joints() == 0) throw invalid_argument(std::string(who) + ": the clips have no joints");
     if (trigger >= a.frames())
         throw invalid_argument(std::string(who) + ": trigger frame " + std::to_string(trigger) +
                                " is outside clip A (" + std::to_string(a.frames()) + " frames)");
@@ -158,9 +162,33 @@ void check_transition(const clip<T>& a, std::size_t trigger, const clip<T>& b, s
     if (!params.methods.empty() && params.methods.size() != a.joints())
         throw invalid_argument(std::string(who) + ": " + std::to_string(params.methods.size()) +
                                " interpolation methods for " + std::to_string(a.joints()) + " joints");
-    if (!(params.large_angle >= 0) || !(params.gravity >= 0) || !std::isfinite(params.gravity_factor) ||
-        !(params.root_window >= 0))
-        throw invalid_argument(std::string(who) + ": large_angle and gravity must be non-negative");
+    check_argument(params.large_angle >= 0, who, "transition_params::large_angle",
+                   "non-negative (infinity: no joint uses squad)", params.large_angle);
+    check_non_negative(who, "transition_params::gravity", params.gravity);
+    check_finite(who, "transition_params::gravity_factor", params.gravity_factor);
+    check_non_negative(who, "transition_params::root_window", params.root_window);
+    check_classify_params(params.classification, who);
+    check_timing_params(params.timing, who);
+}
+
+/// The transition's steps (in-between frames + 1) for its duration, counted
+/// in double so that no duration overflows, refused when the in-between
+/// frames would take more than params.max_memory.
+template <class T>
+std::size_t transition_steps(const clip<T>& a, T duration, const transition_params& params, const char* who) {
+    const double steps = std::max(1.0, std::round(static_cast<double>(duration) / static_cast<double>(a.frame_time())));
+    std::size_t translated = 0;
+    for (std::size_t j = 0; j < a.joints(); ++j) translated += a.skeleton().translation_slot(j) >= 0 ? 1 : 0;
+    const double bytes = (steps - 1) * static_cast<double>(sizeof(T) * (4 * a.joints() + 3 * translated));
+    if (params.max_memory > 0 && !(bytes <= params.max_memory))
+        throw invalid_argument(std::string(who) + ": a transition of " + argument_text(duration) +
+                               " s at a frame time of " + argument_text(a.frame_time()) + " s has " +
+                               argument_text(steps - 1) + " in-between frames, about " +
+                               argument_text(std::ceil(bytes / 1048576.0)) +
+                               " MiB, more than transition_params::max_memory (" +
+                               argument_text(params.max_memory / 1048576.0) +
+                               " MiB): lower timing_params::max_duration");
+    return static_cast<std::size_t>(steps);
 }
 
 /// Whether frame f of a clip with this classification is in an airborne
@@ -197,7 +225,8 @@ bool other_frame_time(const clip<T>& a, const clip<T>& b) {
 /// The transition from checked arguments, B at A's frame time.
 template <class T>
 void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
-                             const transition_params& params, transition_frames<T>& out, transition_workspace<T>& ws) {
+                             const transition_params& params, transition_frames<T>& out, transition_workspace<T>& ws,
+                             const char* who) {
     const flush_denormals guard;  // float mocap's tiny angles would otherwise halve the speed
     using vec3 = Eigen::Matrix<T, 3, 1>;
     using quat = Eigen::Quaternion<T>;
@@ -218,7 +247,7 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
     // Heading and timing.
     const quat turn = heading_change(b.rotation(b_start, 0), a.rotation(trigger, 0), up);
     variable_timing_into(a, trigger, b, b_start, roles, turn, params.timing, out.timing, ws.rates);
-    const auto steps = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(out.timing.duration / dt)));
+    const std::size_t steps = transition_steps(a, out.timing.duration, params, who);
     out.duration = dt * static_cast<T>(steps);
 
     // Root path (Eq 12 / Eq 13) and B's placement at its end.
@@ -340,7 +369,7 @@ void make_transition_into(const clip<T>& a, std::size_t trigger, const clip<T>& 
         throw invalid_argument("anima::make_transition_into: clip B's frame time " +
                                detail::argument_text(b.frame_time()) + " s differs from clip A's " +
                                detail::argument_text(a.frame_time()) + " s: resample B first");
-    detail::make_transition_checked(a, trigger, b, b_start, params, out, ws);
+    detail::make_transition_checked(a, trigger, b, b_start, params, out, ws, "anima::make_transition_into");
 }
 
 /// The transition from frame `trigger` of a to frame `b_start` of b. The
@@ -357,7 +386,7 @@ transition<T> make_transition(const clip<T>& a, std::size_t trigger, const clip<
     if (resampled) b_start = detail::resampled_frame(b_start, b_in.frame_time(), b);
     transition<T> out;
     transition_workspace<T> ws;
-    detail::make_transition_checked(a, trigger, b, b_start, params, out, ws);
+    detail::make_transition_checked(a, trigger, b, b_start, params, out, ws, "anima::make_transition");
     out.placed_b = place_clip(b, b_start, out.placement.turn, out.placement.start);
     return out;
 }
@@ -369,6 +398,17 @@ struct joined_clip {
     std::size_t start_frame = 0;  ///< last frame of A in `motion`
     std::size_t end_frame = 0;    ///< first frame of (placed) B in `motion`
 };
+
+namespace detail {
+/// start_frame <= end_frame < motion.frames(); the error names `who`.
+template <class T>
+void check_joined_window(const joined_clip<T>& joined, const char* who) {
+    if (joined.start_frame > joined.end_frame || joined.end_frame >= joined.motion.frames())
+        throw invalid_argument(std::string(who) + ": transition frames [" + std::to_string(joined.start_frame) +
+                               ", " + std::to_string(joined.end_frame) + "] are not inside the clip (" +
+                               std::to_string(joined.motion.frames()) + " frames)");
+}
+}  // namespace detail
 
 /// A[0..trigger] + the transition's frames + the placed B.
 template <class T>
