@@ -11,6 +11,7 @@
 #include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/reorient.hpp>
 #include <anima/motion/resample.hpp>
+#include <anima/motion/rest_pose.hpp>
 #include <anima/motion/skeleton.hpp>
 #include <anima/motion/velocities.hpp>
 #include <anima/rotation/quaternion.hpp>
@@ -1105,6 +1106,12 @@ TEST_CASE_TEMPLATE("scale_clip scales global positions; with_rotation_order keep
     CHECK(anima::guess_units(scaled.skeleton(), {anima::axis::y, 1}).name == "metres");
     for (T bad : {T(0), T(-1), std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::infinity()})
         CHECK_THROWS_AS(anima::scale_clip(c, bad), anima::invalid_argument);
+    // Scalar arguments take their type from the clip: double literals work on
+    // a float clip (this failed to compile for float before).
+    CHECK(anima::scale_clip(c, 2.0).skeleton()[1].offset == T(2) * c.skeleton()[1].offset);
+    CHECK(anima::resample(c, 1.0 / 60).frame_time() == T(1.0 / 60));
+    CHECK(anima::starts_at_rest_pose(c, 10.0) == anima::starts_at_rest_pose(c));
+    CHECK(anima::rest_pose_lead_in(c, 10.0) == anima::rest_pose_lead_in(c));
     // A finite scale that overflows a position names scale_clip, not clip::set_translation.
     CHECK_THROWS_WITH_AS(anima::scale_clip(c, std::numeric_limits<T>::max() / T(10)),
                          doctest::Contains("anima::scale_clip: scale"), anima::invalid_argument);

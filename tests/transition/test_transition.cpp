@@ -1155,6 +1155,9 @@ TEST_CASE_TEMPLATE("degenerate input: no joints, unbounded durations, bad window
         for (std::size_t j = 0; j < cut.motion.joints(); ++j) REQUIRE(cut.motion.rotation(f, j).coeffs().allFinite());
     has(message([&] { anima::inertialize(r, 60, r, 0, std::numeric_limits<T>::denorm_min()); }),
         "anima::inertialize: halflife must be positive, normal and finite");
+    // Durations and half-lives take the clip's scalar type: double literals on a float clip.
+    CHECK(anima::crossfade(r, 60, r, 0, 0.2).end_frame == anima::crossfade(r, 60, r, 0, T(0.2)).end_frame);
+    CHECK(anima::inertialize(r, 60, r, 0, 0.1).end_frame == anima::inertialize(r, 60, r, 0, T(0.1)).end_frame);
     // A crossfade longer than size_t can count blends over what B has.
     CHECK(anima::crossfade(r, 60, r, 0, T(1e30)).motion.frames() == 61 + r.frames());
 }

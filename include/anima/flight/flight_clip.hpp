@@ -5,6 +5,7 @@
 
 #include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/nondeduced.hpp>
 #include <anima/flight/flight_objective.hpp>
 #include <anima/flight/key_trajectory.hpp>
 #include <anima/motion/clip.hpp>
@@ -22,7 +23,7 @@ namespace anima {
 /// Root positions go back to skeleton units (divided by metres_per_unit).
 template <class T>
 clip<T> flight_clip(const flight_problem<T>& problem, const flight_keys<T>& keys, const skeleton<T>& sk,
-                    T metres_per_unit, T frame_time) {
+                    nondeduced_t<T> metres_per_unit, nondeduced_t<T> frame_time) {
     const char* who = "anima::flight_clip";
     if (sk.size() != problem.model().size())
         throw invalid_argument(std::string(who) + ": skeleton has " + std::to_string(sk.size()) +

@@ -6,6 +6,7 @@
 
 #include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/nondeduced.hpp>
 #include <anima/ik/kinematic_tree.hpp>
 #include <anima/motion/clip.hpp>
 
@@ -37,7 +38,7 @@ ik_matrix<T> clip_poses(const kinematic_tree<T>& tree, const clip<T>& c, std::si
 /// mean variance / variance_k, with variances floored at `floor` times the
 /// mean so a DOF that never moved in the data is expensive, not frozen.
 template <class T>
-ik_vector<T> dof_weights_from_poses(const ik_matrix<T>& poses, T floor = T(0.01)) {
+ik_vector<T> dof_weights_from_poses(const ik_matrix<T>& poses, nondeduced_t<T> floor = T(0.01)) {
     if (poses.cols() < 2 || poses.rows() == 0)
         throw invalid_argument("anima::dof_weights_from_poses: need at least 2 poses of at least 1 DOF, got " +
                                std::to_string(poses.cols()) + " of " + std::to_string(poses.rows()));
@@ -56,7 +57,8 @@ ik_vector<T> dof_weights_from_poses(const ik_matrix<T>& poses, T floor = T(0.01)
 /// with the root translation difference divided by `length` when the root
 /// translation is a DOF (pass the body scale).
 template <class T>
-T pose_distance(const kinematic_tree<T>& tree, const ik_vector<T>& a, const ik_vector<T>& b, T length = T(1)) {
+T pose_distance(const kinematic_tree<T>& tree, const ik_vector<T>& a, const ik_vector<T>& b,
+                nondeduced_t<T> length = T(1)) {
     T sum = T(0);
     int count = 0;
     for (std::size_t j = 0; j < tree.skeleton().size(); ++j) {
@@ -76,7 +78,7 @@ T pose_distance(const kinematic_tree<T>& tree, const ik_vector<T>& a, const ik_v
 /// poses (columns). Smaller is more natural.
 template <class T>
 T distance_to_nearest_pose(const kinematic_tree<T>& tree, const ik_vector<T>& q, const ik_matrix<T>& poses,
-                           T length = T(1)) {
+                           nondeduced_t<T> length = T(1)) {
     if (poses.cols() == 0 || poses.rows() != tree.dofs())
         throw invalid_argument("anima::distance_to_nearest_pose: " + std::to_string(poses.cols()) + " poses of " +
                                std::to_string(poses.rows()) + " DOFs for a tree of " + std::to_string(tree.dofs()));

@@ -6,6 +6,7 @@
 #include <anima/core/check_argument.hpp>
 #include <anima/core/constants.hpp>
 #include <anima/core/error.hpp>
+#include <anima/core/nondeduced.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/figure.hpp>
 #include <anima/rotation/detail/quat4.hpp>
@@ -70,7 +71,7 @@ clip<T> change_up_axis(const clip<T>& c, signed_axis from, signed_axis to) {
 /// The clip with every length multiplied by s > 0: offsets, end sites and
 /// translations. Rotations are unchanged.
 template <class T>
-clip<T> scale_clip(const clip<T>& c, T s) {
+clip<T> scale_clip(const clip<T>& c, nondeduced_t<T> s) {
     check_positive("anima::scale_clip", "scale", s);
     T largest = 0;  // refuse up front a scale that overflows a position
     for (std::size_t j = 0; j < c.joints(); ++j) {

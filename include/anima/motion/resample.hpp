@@ -5,6 +5,7 @@
 #include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/flush_denormals.hpp>
+#include <anima/core/nondeduced.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/rotation/slerp.hpp>
 
@@ -32,7 +33,7 @@ std::size_t resampled_frame(std::size_t f, T source_frame_time, const clip<T>& r
 /// more than max_memory bytes (1 GiB by default; 0 lifts the limit), e.g. two
 /// frames a second apart resampled every nanosecond.
 template <class T>
-clip<T> resample(const clip<T>& c, T frame_time, double max_memory = 1024.0 * 1024.0 * 1024.0) {
+clip<T> resample(const clip<T>& c, nondeduced_t<T> frame_time, double max_memory = 1024.0 * 1024.0 * 1024.0) {
     const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     check_positive("anima::resample", "frame time", frame_time);
     if (c.frames() < 2) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <anima/core/constants.hpp>
+#include <anima/core/nondeduced.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/rotation/quaternion.hpp>
 
@@ -22,7 +23,7 @@ namespace anima {
 /// there, and at least one joint moves. Joints that never move, such as
 /// uncaptured fingers, may be held at any angle.
 template <class T>
-bool starts_at_rest_pose(const clip<T>& c, T degrees = T(10)) {
+bool starts_at_rest_pose(const clip<T>& c, nondeduced_t<T> degrees = T(10)) {
     if (c.frames() < 2) return false;
     const T limit = degrees * pi<T> / T(180), still = pi<T> / T(180);
     const Eigen::Quaternion<T> identity = Eigen::Quaternion<T>::Identity();
@@ -43,7 +44,7 @@ bool starts_at_rest_pose(const clip<T>& c, T degrees = T(10)) {
 /// ordinary again, under twice the clip's median step; 1 when no later step
 /// is. 0 when frame 0 is not the rest pose.
 template <class T>
-std::size_t rest_pose_lead_in(const clip<T>& c, T degrees = T(10)) {
+std::size_t rest_pose_lead_in(const clip<T>& c, nondeduced_t<T> degrees = T(10)) {
     if (!starts_at_rest_pose(c, degrees)) return 0;
     std::vector<T> step(c.frames() - 1, T(0));
     for (std::size_t f = 1; f < c.frames(); ++f)

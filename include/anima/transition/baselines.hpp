@@ -11,6 +11,7 @@
 #include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/flush_denormals.hpp>
+#include <anima/core/nondeduced.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/resample.hpp>
 #include <anima/rotation/exp_log.hpp>
@@ -90,7 +91,8 @@ joined_clip<T> direct_cut(const clip<T>& a, std::size_t trigger, const clip<T>& 
 /// with B's weight rising linearly, then the rest of B. Rotations blend by
 /// slerp, translations linearly.
 template <class T>
-joined_clip<T> crossfade(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start, T duration,
+joined_clip<T> crossfade(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
+                         nondeduced_t<T> duration,
                          std::optional<signed_axis> up = std::nullopt) {
     check_non_negative("anima::crossfade", "duration", duration);
     const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
@@ -141,7 +143,8 @@ V spring_decay(const V& x0, const V& v0, T halflife, T t) {
 /// transition ends (end_frame) when the rotation offsets have all fallen below
 /// 1% of the largest one at the switch, and the root offset below 1% of its own.
 template <class T>
-joined_clip<T> inertialize(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start, T halflife,
+joined_clip<T> inertialize(const clip<T>& a, std::size_t trigger, const clip<T>& b, std::size_t b_start,
+                           nondeduced_t<T> halflife,
                            std::optional<signed_axis> up = std::nullopt) {
     // Normal: a subnormal half-life would overflow 1 / halflife.
     check_argument(halflife >= std::numeric_limits<T>::min() && std::isfinite(halflife), "anima::inertialize",
