@@ -1860,6 +1860,35 @@ TEST_CASE("root_from_feet: a foot on the ground stays put, heights and the motio
           std::string::npos);
 }
 
+TEST_CASE_TEMPLATE("plant_transition_feet: with a speed band a run into a run keeps running", T, float, double) {
+    // The blended legs step slower than the runner moves: following the feet
+    // alone, the root fell from 224 to 54 units/s for 40 ms in this window.
+    const auto& a = run<T>();
+    const auto b = anima::read_bvh<T>(bundled("run_cmu_02_03.bvh"));
+    const auto joined = anima::transition_clips(a, 50, b, 10);
+    const auto ground_speed = [](const anima::clip<T>& c, std::size_t f) {
+        const auto d = c.root_position(f + 1) - c.root_position(f);
+        return static_cast<double>(std::hypot(d.x(), d.z())) / static_cast<double>(c.frame_time());
+    };
+    const double slower_end = std::min(ground_speed(joined.motion, joined.start_frame - 1),
+                                       ground_speed(joined.motion, joined.end_frame));
+    const auto slowest = [&](const anima::transition_feet_params<T>& p) {
+        const auto planted = anima::plant_transition_feet(joined, p);
+        double least = std::numeric_limits<double>::infinity();
+        for (std::size_t f = joined.start_frame; f < joined.end_frame; ++f)
+            least = std::min(least, ground_speed(planted.motion, f));
+        return least;
+    };
+    anima::transition_feet_params<T> p;
+    CAPTURE(slower_end);
+    CHECK(slowest(p) < 0.3 * slower_end);  // the stall, by default (no band)
+    p.root_speed_band = T(0.75);
+    CHECK(slowest(p) >= 0.75 * slower_end * (1 - 1e-4));
+    p.root_speed_band = T(1.5);
+    CHECK(thrown_message([&] { (void)anima::plant_transition_feet(joined, p); }).find("root_speed_band") !=
+          std::string::npos);
+}
+
 TEST_CASE("root_from_feet: a swing skimming the floor beside a planted foot drags it slower than the legs' stepping "
           "speed") {
     // Feet placed directly (position channels under the hips), Y up, metres:

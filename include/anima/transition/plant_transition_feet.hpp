@@ -50,6 +50,17 @@ struct transition_feet_params {
     /// toward B's pose while B's root moves on, the feet would have the root
     /// stop and start again; the legs' IK takes the rest.
     T root_acceleration_quantile = T(0.95);
+    /// A band for the root's horizontal speed through the window: along the
+    /// way A's last step and B's first both travel (when within 60 degrees
+    /// of each other) at least band x the slower end's speed, and overall at
+    /// most the faster end's / band; the legs' IK takes the rest. The blended
+    /// legs step slower than a runner moves, and the feet alone can stall it
+    /// mid-stride: a run into a run (run_cmu_09_01 at 60 into run_cmu_02_03
+    /// at 10) falls from 224 to 54 units/s for 40 ms, 168 with a band of
+    /// 0.75. The price is skate: on run_cmu_02_03 into a walk the planted
+    /// window's skate rises from 0.14x to 1.61x the clips' own
+    /// (docs/transitions.md). 0, the default: no band, the feet first.
+    T root_speed_band = T(0);
 };
 
 namespace detail {
@@ -187,9 +198,26 @@ void root_from_feet(clip<T>& c, frame_interval window, const contact_set<T>& con
         vec3& step = steps[f - window.first - 1];
         step = w * step + (T(1) - w) * recorded(f);
     }
+    const vec3 before = window.first >= 1 ? recorded(window.first) : steps.front();
+    const vec3 after = window.last + 1 < c.frames() ? recorded(window.last + 1) : steps.back();
+    if (params.root_speed_band > T(0)) {
+        // Speed along the way the two ends travel, at least band x the slower
+        // end's; overall at most the faster end's / band.
+        const T slow = params.root_speed_band * std::min(before.norm(), after.norm());
+        const T fast = std::max(before.norm(), after.norm()) / params.root_speed_band;
+        // The floor only where both ends travel the same way (within 60
+        // degrees): a turn or a start from a dance has no one way to keep.
+        const T agree = before.normalized().dot(after.normalized());
+        const vec3 way = before.normalized() + after.normalized();
+        const vec3 along = agree > T(0.5) ? vec3(way.normalized()) : vec3::Zero();
+        for (vec3& s : steps) {
+            const T ahead = s.dot(along);
+            if (ahead < slow) s += (slow - ahead) * along;
+            const T n = s.norm();
+            if (n > fast) s *= fast / n;
+        }
+    }
     if (std::isfinite(limit)) {
-        const vec3 before = window.first >= 1 ? recorded(window.first) : steps.front();
-        const vec3 after = window.last + 1 < c.frames() ? recorded(window.last + 1) : steps.back();
         for (Eigen::Index k = 0; k < 3; ++k) {
             if (k == axis) continue;
             T last = before[k];
@@ -227,6 +255,7 @@ joined_clip<T> plant_transition_feet(const joined_clip<T>& joined, transition_fe
     check_in_range("anima::plant_transition_feet", "root_ramp_fraction", params.root_ramp_fraction, T(0), T(0.5));
     check_in_range("anima::plant_transition_feet", "root_acceleration_quantile", params.root_acceleration_quantile, T(0),
                    T(1));
+    check_in_range("anima::plant_transition_feet", "root_speed_band", params.root_speed_band, T(0), T(1));
     joined_clip<T> out = joined;
     const frame_interval window{joined.start_frame, joined.end_frame};
     if (!has_feet_to_plant(out.motion, params.planting)) return out;
