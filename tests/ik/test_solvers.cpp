@@ -638,8 +638,13 @@ TEST_CASE_TEMPLATE("solvers refuse bad goals, poses and parameters naming them",
     CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, goals, ik_vector<T>::Zero(4), pseudo_inverse<T>{}); }),
                                "4 DOFs"));
     ik_params<T> p;
-    p.tolerance = T(-1);
-    CHECK(anima_test::contains(msg([&] { (void)solve_ik(arm, goals, q0, pseudo_inverse<T>{}, p); }), "tolerance"));
+    p.tolerance = T(-1e-7);  // printed exactly (std::to_string gave -0.000000)
+    CHECK(msg([&] { (void)solve_ik(arm, goals, q0, pseudo_inverse<T>{}, p); }) ==
+          "anima::solve_ik: ik_params::tolerance must be positive and finite, got -1e-07");
+    p = ik_params<T>{};
+    p.restarts = -2;
+    CHECK(msg([&] { (void)solve_ik(arm, goals, q0, pseudo_inverse<T>{}, p); }) ==
+          "anima::solve_ik: ik_params::restarts must be at least 0, got -2");
     p = ik_params<T>{};
     p.null_space.gain = T(1);
     p.null_space.reference = ik_vector<T>::Zero(3);

@@ -9,6 +9,7 @@
 #include <anima/rotation/exp_log.hpp>
 #include <anima/rotation/quaternion.hpp>
 #include <anima/rotation/shortest_arc.hpp>
+#include <anima/rotation/swing_twist.hpp>
 #include <anima/rotation/detail/so3.hpp>
 
 #include <unsupported/Eigen/AutoDiff>
@@ -292,11 +293,21 @@ TEST_CASE_TEMPLATE("axis-angle conversions", Q, ANIMA_QUAT_TYPES) {
     CHECK(id.angle == 0);
     CHECK(vdiff(id.axis, vec{1, 0, 0}) == 0);
     CHECK(anima::to_axis_angle(neg(anima::identity<Q>())).angle == 0);
-    CHECK_THROWS_AS(anima::from_axis_angle<Q>(std::array<T, 3>{0, 0, 0}, T(1)), anima::invalid_argument);
-    CHECK_THROWS_AS(anima::from_axis_angle<Q>(std::array<T, 3>{std::nanf(""), 0, 1}, T(1)),
-                    anima::invalid_argument);
-    CHECK_THROWS_AS(anima::from_axis_angle<Q>(std::array<T, 3>{0, 0, 1}, std::numeric_limits<T>::infinity()),
-                    anima::invalid_argument);
+    // Each refusal names the argument and its value.
+    CHECK_THROWS_WITH_AS(anima::from_axis_angle<Q>(std::array<T, 3>{0, 0, 0}, T(1)),
+                         "anima::from_axis_angle: axis must be non-zero and finite, got (0, 0, 0)",
+                         anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::from_axis_angle<Q>(std::array<T, 3>{std::nanf(""), 0, 1}, T(1)),
+                         "anima::from_axis_angle: axis must be non-zero and finite, got (nan, 0, 1)",
+                         anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::from_axis_angle<Q>(std::array<T, 3>{0, 0, 1}, std::numeric_limits<T>::infinity()),
+                         "anima::from_axis_angle: angle must be finite, got inf", anima::invalid_argument);
+    // An axis whose squared length overflows is still a direction.
+    const T huge = std::numeric_limits<T>::max() / T(2);
+    CHECK(diff(anima::from_axis_angle<Q>(std::array<T, 3>{0, huge, 0}, T(1)),
+               anima::from_axis_angle<Q>(std::array<T, 3>{0, 1, 0}, T(1))) == 0);
+    CHECK_THROWS_WITH_AS(anima::swing_twist(anima::identity<Q>(), std::array<T, 3>{0, 0, 0}),
+                         "anima::swing_twist: axis must be non-zero and finite, got (0, 0, 0)", anima::invalid_argument);
     CHECK_THROWS_AS(anima::to_axis_angle(make<Q>(0, 0, 0, 0)), anima::invalid_argument);
     rng r(19);
     for (int i = 0; i < 100; ++i) {
@@ -372,9 +383,10 @@ TEST_CASE_TEMPLATE("shortest_arc turns a onto b by the angle between them, also 
         CHECK(std::abs(to_lq(q).w) <= e);
     }
     CHECK(diff(anima::shortest_arc<Q>(make_vec<Q>({1, 2, 3}), make_vec<Q>({2, 4, 6})), anima::identity<Q>()) == 0);
-    CHECK_THROWS_AS(anima::shortest_arc<Q>(make_vec<Q>({0, 0, 0}), make_vec<Q>({1, 0, 0})), anima::invalid_argument);
-    CHECK_THROWS_AS(anima::shortest_arc<Q>(make_vec<Q>({1, 0, 0}), make_vec<Q>({std::nan(""), 0, 0})),
-                    anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::shortest_arc<Q>(make_vec<Q>({0, 0, 0}), make_vec<Q>({1, 0, 0})),
+                         "anima::shortest_arc: from must be non-zero and finite, got (0, 0, 0)", anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::shortest_arc<Q>(make_vec<Q>({1, 0, 0}), make_vec<Q>({std::nan(""), 0, 0})),
+                         "anima::shortest_arc: to must be non-zero and finite, got (nan, 0, 0)", anima::invalid_argument);
     CHECK_THROWS_AS(anima::shortest_arc<Q>(make_vec<Q>({1, 0, 0}), make_vec<Q>({0, 0, HUGE_VALL})),
                     anima::invalid_argument);
     // Lengths whose squares over- or underflow T.

@@ -8,6 +8,7 @@
 // random restarts, and a result that is the best pose seen, never NaN.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
@@ -84,20 +85,14 @@ namespace detail {
 
 template <class T>
 void check_ik_params(const ik_params<T>& p, int dofs, const char* who) {
-    const auto bad = [&](const std::string& what, double v) {
-        throw invalid_argument(std::string(who) + ": " + what + " is " + std::to_string(v));
-    };
-    if (p.max_iterations < 0) bad("max_iterations", p.max_iterations);
-    if (p.restarts < 0) bad("restarts", p.restarts);
-    if (!(p.tolerance > T(0)) || !std::isfinite(p.tolerance)) bad("tolerance", static_cast<double>(p.tolerance));
-    if (!(p.angle_tolerance > T(0)) || !std::isfinite(p.angle_tolerance))
-        bad("angle_tolerance", static_cast<double>(p.angle_tolerance));
-    if (!(p.step_scale > T(0)) || !std::isfinite(p.step_scale)) bad("step_scale", static_cast<double>(p.step_scale));
-    if (!(p.max_step >= T(0)) || !std::isfinite(p.max_step)) bad("max_step", static_cast<double>(p.max_step));
-    if (std::isnan(p.residual_clamp) || std::isinf(p.residual_clamp))
-        bad("residual_clamp", static_cast<double>(p.residual_clamp));
-    if (!(p.null_space.gain >= T(0)) || !std::isfinite(p.null_space.gain))
-        bad("null_space.gain", static_cast<double>(p.null_space.gain));
+    check_at_least(who, "ik_params::max_iterations", p.max_iterations, 0);
+    check_at_least(who, "ik_params::restarts", p.restarts, 0);
+    check_positive(who, "ik_params::tolerance", p.tolerance);
+    check_positive(who, "ik_params::angle_tolerance", p.angle_tolerance);
+    check_positive(who, "ik_params::step_scale", p.step_scale);
+    check_non_negative(who, "ik_params::max_step", p.max_step);
+    check_finite(who, "ik_params::residual_clamp", p.residual_clamp);
+    check_non_negative(who, "ik_params::null_space.gain", p.null_space.gain);
     if (p.null_space.reference.size() != 0 &&
         (p.null_space.reference.size() != dofs || !p.null_space.reference.allFinite()))
         throw invalid_argument(std::string(who) + ": null_space.reference has " +

@@ -1,6 +1,7 @@
 // Axis-angle <-> quaternion.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
@@ -23,11 +24,10 @@ struct axis_angle {
 template <class Q, class V, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q from_axis_angle(const V& axis, quat_scalar_t<Q> angle) {
     using T = quat_scalar_t<Q>;
-    const T x = static_cast<T>(axis[0]), y = static_cast<T>(axis[1]), z = static_cast<T>(axis[2]);
-    const T n = std::sqrt(x * x + y * y + z * z);
-    if (!(n > T(0)) || !std::isfinite(n) || !std::isfinite(angle))
-        throw invalid_argument("anima::from_axis_angle: axis must be non-zero and finite, angle finite");
-    const T s = std::sin(angle / T(2)) / n;
+    T x = static_cast<T>(axis[0]), y = static_cast<T>(axis[1]), z = static_cast<T>(axis[2]);
+    detail::normalize3_or_throw(x, y, z, "anima::from_axis_angle", "axis");
+    check_finite("anima::from_axis_angle", "angle", angle);
+    const T s = std::sin(angle / T(2));
     return quat_traits<Q>::make(std::cos(angle / T(2)), s * x, s * y, s * z);
 }
 

@@ -30,15 +30,8 @@ Q shortest_arc(const A& from, const B& to) {
     T b[3] = {static_cast<T>(to[0]), static_cast<T>(to[1]), static_cast<T>(to[2])};
     // Scaled by the largest component first, so that lengths whose squares
     // over- or underflow T still give their direction.
-    const auto unit = [](T(&v)[3]) {
-        const T m = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
-        if (!(m > T(0)) || !std::isfinite(m)) return false;
-        for (T& x : v) x /= m;
-        const T n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        for (T& x : v) x /= n;
-        return true;
-    };
-    if (!unit(a) || !unit(b)) throw invalid_argument("anima::shortest_arc: both vectors must be non-zero and finite");
+    detail::normalize3_or_throw(a[0], a[1], a[2], "anima::shortest_arc", "from");
+    detail::normalize3_or_throw(b[0], b[1], b[2], "anima::shortest_arc", "to");
     const T d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     const T sign = d >= T(0) ? T(-1) : T(1);
     const T s[3] = {b[0] + sign * a[0], b[1] + sign * a[1], b[2] + sign * a[2]};

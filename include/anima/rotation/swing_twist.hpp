@@ -21,11 +21,7 @@ std::pair<Q, Q> swing_twist(const Q& q, const V& axis) {
     using T = quat_scalar_t<Q>;
     const auto p = detail::normalized_or_throw(detail::load(q), "anima::swing_twist");
     T ax = static_cast<T>(axis[0]), ay = static_cast<T>(axis[1]), az = static_cast<T>(axis[2]);
-    const T an = std::sqrt(ax * ax + ay * ay + az * az);
-    if (!(an > T(0)) || !std::isfinite(an)) throw invalid_argument("anima::swing_twist: axis must be non-zero and finite");
-    ax /= an;
-    ay /= an;
-    az /= an;
+    detail::normalize3_or_throw(ax, ay, az, "anima::swing_twist", "axis");
     const T d = p.x * ax + p.y * ay + p.z * az;
     detail::quat4<T> twist{p.w, d * ax, d * ay, d * az};
     const T n = detail::norm4(twist);

@@ -196,14 +196,37 @@ quat4<S> exp_pure(const S& vx, const S& vy, const S& vz) {
     return {c, k * vx, k * vy, k * vz};
 }
 
+/// "(x, y, z)" for a message, each in its shortest exact form.
+template <class T>
+std::string vector_text(T x, T y, T z) {
+    return "(" + argument_text(x) + ", " + argument_text(y) + ", " + argument_text(z) + ")";
+}
+
+/// Divides (x, y, z) by its length, found after scaling by the largest
+/// component so that lengths whose squares over- or underflow work; throws
+/// "who: what must be non-zero and finite, got (x, y, z)" otherwise.
+template <class T>
+void normalize3_or_throw(T& x, T& y, T& z, const char* who, const char* what) {
+    const T m = std::max({std::abs(x), std::abs(y), std::abs(z)});
+    if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max()) || std::isnan(x + y + z))
+        throw invalid_argument(std::string(who) + ": " + what + " must be non-zero and finite, got " +
+                               vector_text(x, y, z));
+    x /= m;
+    y /= m;
+    z /= m;
+    const T n = std::sqrt(x * x + y * y + z * z);
+    x /= n;
+    y /= n;
+    z /= n;
+}
+
 /// exp_pure for the public entry points: refuses a non-finite vector (naming
 /// `what`), and stays exact when |v|^2 overflows though |v| does not (|v|
 /// above about 1.8e19 in float): cos and sin of the length found by scaling.
 template <class T>
 quat4<T> exp_pure_checked(T vx, T vy, T vz, const char* who, const char* what) {
     if (!std::isfinite(vx) || !std::isfinite(vy) || !std::isfinite(vz))
-        throw invalid_argument(std::string(who) + ": " + what + " must be finite, got (" + argument_text(vx) + ", " +
-                               argument_text(vy) + ", " + argument_text(vz) + ")");
+        throw invalid_argument(std::string(who) + ": " + what + " must be finite, got " + vector_text(vx, vy, vz));
     if (vx * vx + vy * vy + vz * vz <= std::numeric_limits<T>::max()) return exp_pure(vx, vy, vz);
     const T m = std::max({std::abs(vx), std::abs(vy), std::abs(vz)});
     const T a = vx / m, b = vy / m, c = vz / m;  // the largest is exactly +-1
