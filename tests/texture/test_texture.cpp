@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -131,6 +132,15 @@ TEST_CASE_TEMPLATE("texton: fitted lengths and refused input", T, float, double)
                    "clip of 1 frames"));
     const anima::clip<T> bare(anima::skeleton<T>(), 10, T(1) / T(30));
     CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(bare, q); }), "no joints"));
+    // 2m must not wrap around to a size that fits.
+    q = fitted;
+    q.m = std::size_t(1) << 63;
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_texton(c, q); }),
+                   "anima::make_texton: m = 9223372036854775808 is too large for a clip of 149 frames"));
+    anima::motion_texture_params<T> tp;
+    tp.texton.m = std::size_t(1) << 63;
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_motion_texture(c, 10, tp); }),
+                   "m = 9223372036854775808 is too large"));
     CHECK(contains(invalid_argument_message([&] { (void)anima::make_motion_texture(c, 0, {}); }), "N = 0"));
     CHECK(contains(invalid_argument_message([&] { (void)anima::patch_texton(anima::make_texton(c, fitted), 0); }), "N = 0"));
 }

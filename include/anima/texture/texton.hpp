@@ -281,7 +281,7 @@ void check_texton_params(const clip<T>& c, const texton_params<T>& params, const
     if (n > m)
         throw invalid_argument(who + "the overlap (" + std::to_string(n) + " frames) is longer than m (" +
                                std::to_string(m) + "): it must lie inside M1 and M2");
-    if (2 * m > F)
+    if (m > F / 2)  // 2 * m > F, without 2 * m wrapping to a small number
         throw invalid_argument(who + "m = " + std::to_string(m) + " is too large for a clip of " + std::to_string(F) +
                                " frames: M1 and M2 (m frames each) must not share frames, so m <= " +
                                std::to_string(F / 2));
