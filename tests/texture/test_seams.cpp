@@ -286,6 +286,17 @@ TEST_CASE_TEMPLATE("overlap search finds a planted best offset", T, float, doubl
     }
 }
 
+TEST_CASE_TEMPLATE("overlap search: an overlap past the index range or sums past the scalar's are refused", T, float, double) {
+    const matrix<T> p = matrix<T>::Ones(5, 5);
+    for (const std::size_t huge : {std::numeric_limits<std::size_t>::max(), std::size_t(1) << 63}) {
+        const std::string message = invalid_argument_message([&] { (void)anima::search_overlap(p, huge); });
+        CHECK(contains(message, "anima::search_overlap: an overlap of " + std::to_string(huge) + " frames does not fit"));
+    }
+    const matrix<T> largest = matrix<T>::Constant(5, 5, std::numeric_limits<T>::max());
+    CHECK(contains(invalid_argument_message([&] { (void)anima::search_overlap(largest, 3); }),
+                   "anima::search_overlap: the summed costs of 3 frames overflow the scalar type; scale the DOFs down"));
+}
+
 TEST_CASE("overlap search: errors") {
     const matrix<double> p = matrix<double>::Ones(10, 8);
     CHECK(contains(invalid_argument_message([&] { (void)anima::search_overlap(p, 0); }), "does not fit"));

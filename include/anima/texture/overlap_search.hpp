@@ -64,8 +64,9 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frame_pair_costs(const Eigen::M
 /// among the windows with i - j >= min_shift (every window by default; a
 /// texton uses it to keep its loop long enough). Ties go to the smallest i,
 /// then the smallest j. Throws anima::invalid_argument for n = 0, n longer
-/// than either motion, a negative or non-finite cost, or a min_shift that
-/// no window meets.
+/// than either motion, a negative or non-finite cost, window sums that
+/// overflow the scalar type (finite costs near its largest value), or a
+/// min_shift that no window meets.
 template <class Derived>
 overlap_search_result<typename Derived::Scalar> search_overlap(
     const Eigen::MatrixBase<Derived>& pair_costs, std::size_t overlap,
@@ -74,8 +75,8 @@ overlap_search_result<typename Derived::Scalar> search_overlap(
     // Prefix sums subtract large partial sums: keep them at least in double.
     using acc = std::common_type_t<T, double>;
     const Eigen::Index na = pair_costs.rows(), nb = pair_costs.cols();
-    const auto n = static_cast<Eigen::Index>(overlap);
-    if (overlap == 0 || n > na || n > nb)
+    // Compared as sizes first: a huge overlap must not wrap to a negative index.
+    if (overlap == 0 || overlap > static_cast<std::size_t>(na) || overlap > static_cast<std::size_t>(nb))
         throw invalid_argument("anima::search_overlap: an overlap of " + std::to_string(overlap) +
                                " frames does not fit motions of " + std::to_string(na) + " and " + std::to_string(nb) +
                                " frames (it needs 1..the shorter length)");
@@ -84,6 +85,7 @@ overlap_search_result<typename Derived::Scalar> search_overlap(
             if (!(pair_costs(i, j) >= T(0)) || !std::isfinite(pair_costs(i, j)))
                 throw invalid_argument("anima::search_overlap: pair cost (" + std::to_string(i) + ", " +
                                        std::to_string(j) + ") is negative or not finite");
+    const auto n = static_cast<Eigen::Index>(overlap);
     overlap_search_result<T> out;
     out.costs.resize(na - n + 1, nb - n + 1);
     std::vector<acc> prefix(static_cast<std::size_t>(std::min(na, nb)) + 1);
@@ -99,6 +101,10 @@ overlap_search_result<typename Derived::Scalar> search_overlap(
             out.costs(i0 + k, j0 + k) = static_cast<T>(std::max(window, acc(0)));
         }
     }
+    // Finite costs can still sum past T's range (a window of float max()).
+    if (!out.costs.allFinite())
+        throw invalid_argument("anima::search_overlap: the summed costs of " + std::to_string(overlap) +
+                               " frames overflow the scalar type; scale the DOFs down");
     const Eigen::Index rows = out.costs.rows();
     if (min_shift > static_cast<std::ptrdiff_t>(rows - 1))
         throw invalid_argument("anima::search_overlap: no window has i - j >= " + std::to_string(min_shift) +
