@@ -195,6 +195,23 @@ TEST_CASE_TEMPLATE("seam cost: rows are weighted norms over blocks of columns", 
     CHECK(frozen.edge(0, 0, 0, 1) < anima::max_flow_infinity<T>());
 }
 
+TEST_CASE_TEMPLATE("seam cost: a node out of range is refused by the accessors", T, float, double) {
+    const matrix<T> a = matrix<T>::Ones(6, 6);
+    const anima::seam_cost<T> cost(a, a + matrix<T>::Constant(6, 6, T(0.5)), 3);
+    CHECK(invalid_argument_message([&] { (void)cost.mismatch(99, 0); }) ==
+          "anima::seam_cost::mismatch: row must be less than the 2 rows, got 99");
+    CHECK(invalid_argument_message([&] { (void)cost.mismatch(1, 6); }) ==
+          "anima::seam_cost::mismatch: frame must be less than the 6 frames, got 6");
+    CHECK(invalid_argument_message([&] { (void)cost.gradient(2, 0); }) ==
+          "anima::seam_cost::gradient: row must be less than the 2 rows, got 2");
+    CHECK(invalid_argument_message([&] { (void)cost.edge(0, 5, 0, 6); }) ==
+          "anima::seam_cost::edge: frame must be less than the 6 frames, got 6");
+    CHECK(invalid_argument_message([&] { (void)cost.edge(5, 0, 0, 0); }) ==
+          "anima::seam_cost::edge: row must be less than the 2 rows, got 5");
+    CHECK(cost.edge(1, 5, 0, 4) == cost.capacity(cost.mismatch(1, 5) + cost.mismatch(0, 4),
+                                                 cost.gradient(1, 5) + cost.gradient(0, 4)));
+}
+
 TEST_CASE("seam cost: errors name what is wrong") {
     const matrix<double> a = matrix<double>::Zero(5, 6);
     CHECK(contains(invalid_argument_message([&] { anima::seam_cost<double>(a, matrix<double>::Zero(4, 6), 3); }), "5 x 6 and 4 x 6"));

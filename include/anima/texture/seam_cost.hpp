@@ -124,9 +124,17 @@ public:
     std::size_t frames() const noexcept { return static_cast<std::size_t>(mismatch_.cols()); }
 
     /// |A - B| of row r at frame t (the weighted norm over the row's block).
-    T mismatch(std::size_t r, std::size_t t) const { return mismatch_(index(r), index(t)); }
+    /// Throws anima::invalid_argument for a row or frame out of range, as do
+    /// gradient and edge.
+    T mismatch(std::size_t r, std::size_t t) const {
+        check_node("anima::seam_cost::mismatch", r, t);
+        return mismatch_(index(r), index(t));
+    }
     /// |G_A| + |G_B| of row r at frame t.
-    T gradient(std::size_t r, std::size_t t) const { return gradient_(index(r), index(t)); }
+    T gradient(std::size_t r, std::size_t t) const {
+        check_node("anima::seam_cost::gradient", r, t);
+        return gradient_(index(r), index(t));
+    }
     /// Per-node mismatch and gradient: rows x frames.
     const matrix& mismatches() const noexcept { return mismatch_; }
     const matrix& gradients() const noexcept { return gradient_; }
@@ -137,7 +145,10 @@ public:
     /// Capacity of the edge between nodes (r1, t1) and (r2, t2) (Eq 8-9 and
     /// the capacity policy); symmetric.
     T edge(std::size_t r1, std::size_t t1, std::size_t r2, std::size_t t2) const {
-        return capacity(mismatch(r1, t1) + mismatch(r2, t2), gradient(r1, t1) + gradient(r2, t2));
+        check_node("anima::seam_cost::edge", r1, t1);
+        check_node("anima::seam_cost::edge", r2, t2);
+        return capacity(mismatch_(index(r1), index(t1)) + mismatch_(index(r2), index(t2)),
+                        gradient_(index(r1), index(t1)) + gradient_(index(r2), index(t2)));
     }
 
     /// The capacity policy for a mismatch sum M (Eq 8) and gradient sum (Eq 9).
@@ -153,9 +164,29 @@ public:
 private:
     static Eigen::Index index(std::size_t i) { return static_cast<Eigen::Index>(i); }
 
+    void check_node(const char* function, std::size_t r, std::size_t t) const {
+        if (r < rows() && t < frames()) return;
+        check_argument(r < rows(), function, "row", "less than the " + std::to_string(rows()) + " rows", r);
+        check_argument(t < frames(), function, "frame", "less than the " + std::to_string(frames()) + " frames", t);
+    }
+
     seam_cost_params<T> params_;
     matrix mismatch_, gradient_;
     T eps_ = T(0);
 };
+
+namespace detail {
+
+/// seam_cost::edge without the range checks, for the min-cut's loops over
+/// nodes that are in range by construction.
+template <class T>
+T seam_edge(const seam_cost<T>& cost, std::size_t r1, std::size_t t1, std::size_t r2, std::size_t t2) {
+    const auto i = [](std::size_t k) { return static_cast<Eigen::Index>(k); };
+    const auto& m = cost.mismatches();
+    const auto& g = cost.gradients();
+    return cost.capacity(m(i(r1), i(t1)) + m(i(r2), i(t2)), g(i(r1), i(t1)) + g(i(r2), i(t2)));
+}
+
+}  // namespace detail
 
 }  // namespace anima

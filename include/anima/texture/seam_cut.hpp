@@ -66,14 +66,14 @@ seam_cut_result<T> cut_seams(const seam_cost<T>& cost, const std::vector<std::pa
     const T inf = max_flow_infinity<T>();
     grid_flow_graph<T> g(rows, frames);
     for (std::size_t r = 0; r < rows; ++r) {
-        for (std::size_t t = 0; t + 1 < frames; ++t) g.set_right(r, t, cost.edge(r, t, r, t + 1), inf);
+        for (std::size_t t = 0; t + 1 < frames; ++t) g.set_right(r, t, detail::seam_edge(cost, r, t, r, t + 1), inf);
         g.set_tweights(r, 0, inf, T(0));
         g.set_tweights(r, frames - 1, T(0), inf);
     }
     if (neighbour_weight > T(0))
         for (const auto& [r1, r2] : neighbours)
             for (std::size_t t = 0; t < frames; ++t) {
-                const T c = neighbour_weight * cost.edge(r1, t, r2, t);
+                const T c = neighbour_weight * detail::seam_edge(cost, r1, t, r2, t);
                 g.add_edge(g.node(r1, t), g.node(r2, t), c, c);
             }
     const auto cut = g.min_cut();
@@ -87,13 +87,13 @@ seam_cut_result<T> cut_seams(const seam_cost<T>& cost, const std::vector<std::pa
         std::size_t s = 1;
         while (s + 1 < frames && !on_b(r, s)) ++s;
         out.seam[r] = s;
-        out.row_cost[r] = cost.edge(r, s - 1, r, s);
+        out.row_cost[r] = detail::seam_edge(cost, r, s - 1, r, s);
         out.cost += out.row_cost[r];
     }
     if (neighbour_weight > T(0))
         for (const auto& [r1, r2] : neighbours) {
             const std::size_t lo = std::min(out.seam[r1], out.seam[r2]), hi = std::max(out.seam[r1], out.seam[r2]);
-            for (std::size_t t = lo; t < hi; ++t) out.neighbour_cost += neighbour_weight * cost.edge(r1, t, r2, t);
+            for (std::size_t t = lo; t < hi; ++t) out.neighbour_cost += neighbour_weight * detail::seam_edge(cost, r1, t, r2, t);
         }
     out.cost += out.neighbour_cost;
     return out;
