@@ -457,6 +457,26 @@ TEST_CASE_TEMPLATE("seam speeds: limits and ratios by hand", T, float, double) {
     CHECK(contains(invalid_argument_message([&] { (void)anima::seam_speeds(c, {{0, 1}}, wrong); }), "limits for 0 joints"));
 }
 
+TEST_CASE_TEMPLATE("seam smoothing: errors name the function called", T, float, double) {
+    const matrix<T> two = matrix<T>::Ones(2, 3);
+    CHECK(contains(invalid_argument_message([&] { (void)anima::smooth_seams(two, {1}); }),
+                   "anima::smooth_seams: the motion has 2 frames"));
+    CHECK(contains(invalid_argument_message([&] { (void)anima::smooth_seams(matrix<T>::Ones(5, 3), {0}); }),
+                   "anima::smooth_seams: seam at frame 0 is outside 1..4"));
+    const anima::clip<T> one(figure<T>(), 1, T(1) / T(30));
+    CHECK(contains(invalid_argument_message([&] { (void)anima::smooth_seams(one, {1}); }),
+                   "anima::smooth_seams: the motion has 1 frames"));
+    const auto c = walker<T>(40, 20.0);
+    const auto layout = anima::make_dof_layout(c);
+    const matrix<T> m = anima::to_dof_matrix(c, layout);
+    CHECK(contains(invalid_argument_message([&] { (void)anima::measure_seam_jump(m, 0, layout); }),
+                   "anima::measure_seam_jump: seam at frame 0 is outside 1..39"));
+    CHECK(contains(invalid_argument_message([&] { (void)anima::measure_seam_jump(m.topRows(2), 1, layout); }),
+                   "anima::measure_seam_jump: the motion has 2 frames"));
+    CHECK(contains(invalid_argument_message([&] { (void)anima::seam_target_differences(two, {1}); }),
+                   "anima::seam_target_differences: the motion has 2 frames"));
+}
+
 }  // namespace
 
 TEST_CASE("make_motion_texture on float mocap with subnormal components: a texture, the caller's mode kept") {

@@ -132,15 +132,15 @@ inline std::vector<std::size_t> checked_seams(std::vector<std::size_t> seams, st
 
 }  // namespace detail
 
-/// The target frame-to-frame differences of a frames x DOF motion: row k is
-/// m(k + 1) - m(k), with the rows across each seam (row s - 1 for a seam at
-/// frame s, and `radius` rows on each side) replaced by a linear
-/// interpolation of the nearest kept rows.
+namespace detail {
+
+/// seam_target_differences below; `who` (the public function called) starts
+/// each message.
 template <class Derived>
 Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, Eigen::Dynamic> seam_target_differences(
-    const Eigen::MatrixBase<Derived>& m, const std::vector<std::size_t>& seams, std::size_t radius = 0) {
+    const Eigen::MatrixBase<Derived>& m, const std::vector<std::size_t>& seams, std::size_t radius,
+    const std::string& who) {
     using T = typename Derived::Scalar;
-    const std::string who = "anima::seam_target_differences";
     const auto frames = static_cast<std::size_t>(m.rows());
     const auto list = detail::checked_seams(seams, frames, who);
     detail::check_finite_matrix(m, who, "motion");
@@ -179,6 +179,18 @@ Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, Eigen::Dynamic> seam_tar
     return d;
 }
 
+}  // namespace detail
+
+/// The target frame-to-frame differences of a frames x DOF motion: row k is
+/// m(k + 1) - m(k), with the rows across each seam (row s - 1 for a seam at
+/// frame s, and `radius` rows on each side) replaced by a linear
+/// interpolation of the nearest kept rows.
+template <class Derived>
+Eigen::Matrix<typename Derived::Scalar, Eigen::Dynamic, Eigen::Dynamic> seam_target_differences(
+    const Eigen::MatrixBase<Derived>& m, const std::vector<std::size_t>& seams, std::size_t radius = 0) {
+    return detail::seam_target_differences(m, seams, radius, "anima::seam_target_differences");
+}
+
 /// How far a frames x DOF motion (in `layout`) jumps across the seam at
 /// frame s beyond the trend of its neighbouring frame differences
 /// (seam_target_differences): the largest excess over its rotation DOFs
@@ -199,7 +211,8 @@ seam_jump<typename Derived::Scalar> measure_seam_jump(const Eigen::MatrixBase<De
     if (static_cast<std::size_t>(m.cols()) != layout.size())
         throw invalid_argument("anima::measure_seam_jump: " + std::to_string(m.cols()) + " DOF columns for a layout of " +
                                std::to_string(layout.size()));
-    const auto target = seam_target_differences(m, {seam});  // checks the seam and the values
+    // Checks the seam and the values.
+    const auto target = detail::seam_target_differences(m, {seam}, 0, "anima::measure_seam_jump");
     const auto face = static_cast<Eigen::Index>(seam - 1);
     seam_jump<T> out;
     for (Eigen::Index d = 0; d < m.cols(); ++d) {
@@ -229,7 +242,7 @@ smoothed_motion<typename Derived::Scalar> smooth_seams(const Eigen::MatrixBase<D
     if (motion.cols() < 1) throw invalid_argument(who + ": the motion has no DOF columns");
     check_positive(who, "dof_spacing", prm.dof_spacing);
     const matrix m = motion;
-    const matrix d = seam_target_differences(m, seams, prm.radius);
+    const matrix d = detail::seam_target_differences(m, seams, prm.radius, who);
     const Eigen::Index frames = m.rows(), dofs = m.cols(), inner = frames - 2;
 
     smoothed_motion<T> out;
