@@ -455,6 +455,8 @@ TEST_CASE_TEMPLATE("seam speeds: limits and ratios by hand", T, float, double) {
     CHECK(contains(invalid_argument_message([&] { (void)anima::seam_speeds(c, {{2, 4}}, limits); }), "[2, 4]"));
     anima::speed_limits<T> wrong;
     CHECK(contains(invalid_argument_message([&] { (void)anima::seam_speeds(c, {{0, 1}}, wrong); }), "limits for 0 joints"));
+    CHECK(invalid_argument_message([&] { (void)anima::seam_speeds(c, {{1, 1}}, limits, T(-0.5)); }) ==
+          "anima::seam_speeds: floor must be non-negative, got -0.5");
 }
 
 TEST_CASE_TEMPLATE("seam smoothing: errors name the function called", T, float, double) {

@@ -4,6 +4,7 @@
 // once (the pose jumps in one frame); a good seam passes it.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/speed_limits.hpp>
@@ -40,7 +41,7 @@ std::vector<seam_speed<T>> seam_speeds(const clip<T>& c, const std::vector<std::
     if (limits.joint.size() != c.joints())
         throw invalid_argument("anima::seam_speeds: limits for " + std::to_string(limits.joint.size()) +
                                " joints, the clip has " + std::to_string(c.joints()));
-    if (!(floor >= T(0))) throw invalid_argument("anima::seam_speeds: the floor must be >= 0");
+    check_argument(floor >= T(0), "anima::seam_speeds", "floor", "non-negative", floor);
     const T fastest = limits.joint.empty() ? T(0) : *std::max_element(limits.joint.begin(), limits.joint.end());
     const T rate = c.frame_rate();
     const bool root_moves = c.joints() > 0 && c.skeleton().translation_slot(0) >= 0;
