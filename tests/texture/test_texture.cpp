@@ -459,6 +459,36 @@ TEST_CASE_TEMPLATE("seam speeds: limits and ratios by hand", T, float, double) {
           "anima::seam_speeds: floor must be non-negative, got -0.5");
 }
 
+TEST_CASE_TEMPLATE("texture: a texture larger than max_memory is refused before any work", T, float, double) {
+    const auto c = walker<T>(149, 30.0);
+    auto p = unplanted<T>();
+    p.texton = anima::fit_texton_lengths(p.texton, c.frames());
+    // 9 joints, the root translated: 39 scalars and a stream entry a frame.
+    const std::size_t frame_bytes = sizeof(T) * 39 + sizeof(std::size_t);
+    const std::size_t most = (std::size_t(1) << 30) / frame_bytes;
+    const std::string bound = "frames must be at most " + std::to_string(most) + " (" + std::to_string(frame_bytes) +
+                              " bytes a frame, max_memory 1024 MiB), got ";
+    for (const std::size_t frames : {std::numeric_limits<std::size_t>::max(), std::size_t(1) << 62, most + 1}) {
+        CHECK(invalid_argument_message([&] { (void)anima::make_motion_texture(c, frames, p); }) ==
+              "anima::make_motion_texture: " + bound + std::to_string(frames));
+        CHECK(invalid_argument_message([&] { (void)anima::make_motion_texture(std::vector<anima::clip<T>>{c}, frames, p); }) ==
+              "anima::make_motion_texture: " + bound + std::to_string(frames));
+    }
+    const auto texton = anima::make_texton(c, p.texton);
+    CHECK(contains(invalid_argument_message([&] { (void)anima::patch_texton(texton, most + 1, p); }),
+                   "anima::patch_texton: " + bound));
+    // A smaller limit, and none but the address space.
+    p.max_memory = static_cast<double>(3 * frame_bytes);
+    CHECK(anima::patch_texton(texton, 3, p).motion.frames() == 3);
+    CHECK(contains(invalid_argument_message([&] { (void)anima::patch_texton(texton, 4, p); }), "frames must be at most 3 ("));
+    p.max_memory = 0;
+    CHECK(contains(invalid_argument_message([&] { (void)anima::make_motion_texture(c, std::size_t(1) << 62, p); }),
+                   "bytes a frame, the address space), got 4611686018427387904"));
+    p.max_memory = -1;
+    CHECK(invalid_argument_message([&] { (void)anima::make_motion_texture(c, 10, p); }) ==
+          "anima::make_motion_texture: max_memory must be non-negative, got -1");
+}
+
 TEST_CASE_TEMPLATE("seam smoothing: errors name the function called", T, float, double) {
     const matrix<T> two = matrix<T>::Ones(2, 3);
     CHECK(contains(invalid_argument_message([&] { (void)anima::smooth_seams(two, {1}); }),

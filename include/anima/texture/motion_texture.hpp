@@ -51,6 +51,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -100,6 +101,11 @@ struct motion_texture_params {
     root_path root = root_path::accumulated;
     /// Texton frame the texture starts at (taken modulo its length).
     std::size_t start = 0;
+    /// Bytes the texture's clip and frame stream may take (1 GiB; 0 lifts
+    /// the limit): a texture of more frames is refused before any work. At
+    /// about 1 KiB a frame (31 joints in double) that is a million frames.
+    /// The seam smoothing's frames x DOFs matrices come on top.
+    double max_memory = 1024.0 * 1024.0 * 1024.0;
 };
 
 template <class T>
@@ -351,16 +357,40 @@ void smooth_texture_seams(motion_texture<T>& out, const motion_texton<T>& texton
     from_dof_matrix(y, layout, out.motion);
 }
 
+/// Throws anima::invalid_argument naming `function` unless a texture of
+/// `frames` frames of skeleton `sk` fits max_memory (0: no limit) and the
+/// address space.
+template <class T>
+void check_texture_memory(const skeleton<T>& sk, std::size_t frames, double max_memory, const char* function) {
+    check_argument(max_memory >= 0, function, "max_memory", "non-negative", max_memory);
+    std::size_t translated = 0;
+    for (std::size_t j = 0; j < sk.size(); ++j) translated += sk.translation_slot(j) >= 0 ? 1 : 0;
+    const double frame_bytes =
+        static_cast<double>(sizeof(T) * (4 * sk.size() + 3 * translated) + sizeof(std::size_t));
+    const double addressable = static_cast<double>(std::numeric_limits<std::ptrdiff_t>::max());
+    const double limit = max_memory > 0 ? std::min(max_memory, addressable) : addressable;
+    const double most = std::floor(limit / frame_bytes);
+    if (static_cast<double>(frames) <= most) return;
+    check_argument(false, function, "frames",
+                   "at most " + detail::argument_text(most) + " (" + detail::argument_text(frame_bytes) +
+                       " bytes a frame, " +
+                       (max_memory > 0 ? "max_memory " + detail::argument_text(max_memory / 1048576.0) + " MiB)"
+                                       : std::string("the address space)")),
+                   frames);
+}
+
 }  // namespace detail
 
 /// Patches a texton into a texture of `frames` frames (Eq 10): the stream,
 /// resequencing with the root policy, and the Poisson stage. Throws
-/// anima::invalid_argument for frames = 0 or bad parameters.
+/// anima::invalid_argument for frames = 0, a texture larger than
+/// params.max_memory, or bad parameters.
 template <class T>
 motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frames,
                                const motion_texture_params<T>& params = {}) {
     const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
     if (frames == 0) throw invalid_argument("anima::patch_texton: the texture needs at least one frame (N = 0)");
+    detail::check_texture_memory(texton.motion.skeleton(), frames, params.max_memory, "anima::patch_texton");
     stopwatch clock;
     motion_texture<T> out;
     out.texton = texton;
@@ -403,22 +433,27 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
 }
 
 /// A texture of `frames` frames from a clip: make_texton, then
-/// patch_texton. Throws anima::invalid_argument for frames = 0 and
-/// everything make_texton refuses.
+/// patch_texton. Throws anima::invalid_argument for frames = 0, a texture
+/// larger than params.max_memory (checked first), and everything make_texton
+/// refuses.
 template <class T>
 motion_texture<T> make_motion_texture(const clip<T>& c, std::size_t frames, const motion_texture_params<T>& params = {}) {
     if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
+    detail::check_texture_memory(c.skeleton(), frames, params.max_memory, "anima::make_motion_texture");
     return patch_texton(make_texton(c, params.texton), frames, params);
 }
 
 /// A texture of `frames` frames that loops through several clips of one
 /// skeleton (make_texton of the clips), with the seams between clips
 /// smoothed and planted as the loop's own. Throws anima::invalid_argument
-/// for frames = 0 and everything make_texton refuses.
+/// for frames = 0, a texture larger than params.max_memory, and everything
+/// make_texton refuses.
 template <class T>
 motion_texture<T> make_motion_texture(const std::vector<clip<T>>& clips, std::size_t frames,
                                       const motion_texture_params<T>& params = {}) {
     if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
+    if (!clips.empty())
+        detail::check_texture_memory(clips[0].skeleton(), frames, params.max_memory, "anima::make_motion_texture");
     return patch_texton(make_texton(clips, params.texton), frames, params);
 }
 
