@@ -503,6 +503,43 @@ TEST_CASE_TEMPLATE("video-texture playback: in range, follows the table, reprodu
     CHECK(static_cast<double>(to3) / static_cast<double>(from0) == doctest::Approx(0.3).epsilon(0.05));
 }
 
+TEST_CASE_TEMPLATE("video-texture jumps: the largest min_jump, DOFs past the scalar's range, values named", T, float, double) {
+    const matrix<T> m = anima::frame_features(walk<T>()).topRows(40);
+    const T dt = walk<T>().frame_time();
+    const auto message = [&](const anima::video_texture_params<T>& p, const matrix<T>& dofs) {
+        return invalid_argument_message([&] { anima::video_texture_jumps(dofs, dt, p); });
+    };
+    anima::video_texture_params<T> p;
+    p.min_jump = std::numeric_limits<int>::max();
+    CHECK(message(p, m) == "anima::video_texture_jumps: the clip has 40 frames; jumps of at least 2147483647 frames "
+                           "need more than 2147483648");
+    p = {};
+    p.min_jump = 0;
+    CHECK(message(p, m) == "anima::video_texture_jumps: min_jump must be at least 1, got 0");
+    p = {};
+    p.min_probability = T(1);
+    CHECK(message(p, m) == "anima::video_texture_jumps: min_probability must be in [0, 1), got 1");
+    p.min_probability = std::numeric_limits<T>::quiet_NaN();
+    CHECK(message(p, m) == "anima::video_texture_jumps: min_probability must be in [0, 1), got nan");
+    p = {};
+    p.sigma_scale = T(-2);
+    CHECK(message(p, m) == "anima::video_texture_jumps: sigma_scale must be positive and finite, got -2");
+    p = {};
+    p.max_targets = 0;
+    CHECK(message(p, m) == "anima::video_texture_jumps: max_targets must be at least 1, got 0");
+    // Finite DOFs whose distances overflow: the caller's scale, not sigma.
+    p = {};
+    anima::random_source rng(4);
+    matrix<T> noise(40, 3);
+    for (Eigen::Index i = 0; i < noise.size(); ++i) noise(i) = static_cast<T>(2 * rng.uniform() - 1);
+    for (const T scale : {std::numeric_limits<T>::max(), static_cast<T>(std::is_same_v<T, float> ? 1e30 : 1e300)}) {
+        const matrix<T> huge = noise * scale;
+        REQUIRE(huge.allFinite());
+        CHECK(message(p, huge) ==
+              "anima::video_texture_jumps: the distances between frames overflow the scalar type; scale the DOFs down");
+    }
+}
+
 TEST_CASE_TEMPLATE("video-texture jumps and playback: errors for bad parameters, short clips, bad tables", T, float, double) {
     const matrix<T> m = anima::frame_features(walk<T>()).topRows(40);
     const T dt = walk<T>().frame_time();

@@ -6,6 +6,7 @@
 // frame pairs: O(frames^2 * DOFs) once, O(frames * max_targets) memory.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
 #include <anima/motion/frame_distance.hpp>
@@ -52,22 +53,27 @@ struct jump_table {
 };
 
 /// The jumps of a frames x DOF matrix. Throws anima::invalid_argument for
-/// bad parameters, non-finite values or a clip too short to jump in
-/// (frames <= min_jump + 1).
+/// bad parameters, non-finite values, a clip too short to jump in
+/// (frames <= min_jump + 1), or DOFs so large that their distances
+/// overflow the scalar type.
 template <class Derived>
 jump_table<typename Derived::Scalar> video_texture_jumps(const Eigen::MatrixBase<Derived>& dofs,
                                                          typename Derived::Scalar frame_time,
                                                          const video_texture_params<typename Derived::Scalar>& params = {}) {
     using T = typename Derived::Scalar;
-    const auto fail = [](const std::string& what) { throw invalid_argument("anima::video_texture_jumps: " + what); };
-    if (!(params.sigma_scale > T(0)) || !std::isfinite(params.sigma_scale)) fail("sigma scale must be positive and finite");
-    if (params.min_jump < 1) fail("min_jump must be at least 1");
-    if (params.max_targets < 1) fail("max_targets must be at least 1");
-    if (!(params.min_probability >= T(0)) || !(params.min_probability < T(1))) fail("min_probability must be in [0, 1)");
+    const char* who = "anima::video_texture_jumps";
+    const auto fail = [who](const std::string& what) { throw invalid_argument(std::string(who) + ": " + what); };
+    check_positive(who, "sigma_scale", params.sigma_scale);
+    check_at_least(who, "min_jump", params.min_jump, 1);
+    check_at_least(who, "max_targets", params.max_targets, std::size_t(1));
+    check_argument(params.min_probability >= T(0) && params.min_probability < T(1), who, "min_probability", "in [0, 1)",
+                   params.min_probability);
     const Eigen::Index n = dofs.rows();
-    if (n <= params.min_jump + 1)
+    // In Eigen::Index: min_jump + 1 overflows an int at INT_MAX.
+    const Eigen::Index least = static_cast<Eigen::Index>(params.min_jump) + 1;
+    if (n <= least)
         fail("the clip has " + std::to_string(n) + " frames; jumps of at least " + std::to_string(params.min_jump) +
-             " frames need more than " + std::to_string(params.min_jump + 1));
+             " frames need more than " + std::to_string(least));
     const auto distance = make_frame_distance(dofs, frame_time, params.distance);
     const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> frames = dofs.transpose();
 
@@ -98,6 +104,9 @@ jump_table<typename Derived::Scalar> video_texture_jumps(const Eigen::MatrixBase
     const double mean = count ? total / static_cast<double>(count) : 0.0;
     // A frozen clip has only zero distances: any positive sigma will do.
     table.sigma = mean > 0 ? static_cast<T>(static_cast<double>(params.sigma_scale) * mean) : T(1);
+    // Finite DOFs can still give distances, or a sigma, beyond T's range.
+    if (!std::isfinite(total) || !std::isfinite(table.sigma))
+        fail("the distances between frames overflow the scalar type; scale the DOFs down");
 
     // Pass 2: probabilities, continuation first.
     table.from.resize(static_cast<std::size_t>(n));
