@@ -304,6 +304,56 @@ TEST_CASE("coverage: fraction of frames shown and evenness of the visits") {
     CHECK(contains(message, "frame 5"));
 }
 
+TEST_CASE_TEMPLATE("symmetric playback: memory follows the candidates and the take, not the clip's length", T, float, double) {
+    const auto two = make_candidates<T>({{5, 0.9}, {20, 0.8}});
+    anima::playback_params<T> p;
+    // The clip's length only bounds the candidates: a huge one plays as a short one.
+    for (const std::size_t frames : {std::numeric_limits<std::size_t>::max(), std::size_t(1) << 40}) {
+        anima::symmetric_playback<T> huge(frames, two, p), small(30, two, p);
+        CHECK(huge.take(500) == small.take(500));
+    }
+    const auto message = [&](std::size_t frames, const std::vector<anima::turning_candidate<T>>& list,
+                             const anima::playback_params<T>& q) {
+        return invalid_argument_message([&] { anima::symmetric_playback<T>(frames, list, q); });
+    };
+    const std::size_t most = (std::size_t(1) << 30) / sizeof(long);
+    CHECK(message(std::size_t(1) << 40, make_candidates<T>({{5, 0.9}, {std::size_t(1) << 39, 0.8}}), p) ==
+          "anima::symmetric_playback: the last candidate frame must be below " + std::to_string(most) + " (" +
+              std::to_string(sizeof(long)) + " bytes each, max_memory 1024 MiB), got 549755813888");
+    // Takes: up to max_memory, or the largest vector when it is lifted.
+    anima::symmetric_playback<T> playback(30, two, p);
+    const std::size_t most_frames = (std::size_t(1) << 30) / sizeof(std::size_t);
+    for (const std::size_t n : {std::numeric_limits<std::size_t>::max(), std::size_t(1) << 40, most_frames + 1})
+        CHECK(invalid_argument_message([&] { (void)playback.take(n); }) ==
+              "anima::symmetric_playback::take: n must be at most " + std::to_string(most_frames) + " (" +
+                  std::to_string(sizeof(std::size_t)) + " bytes each, max_memory 1024 MiB), got " + std::to_string(n));
+    p.max_memory = 0;
+    anima::symmetric_playback<T> unlimited(30, two, p);
+    CHECK(contains(invalid_argument_message([&] { (void)unlimited.take(std::numeric_limits<std::size_t>::max()); }),
+                   "bytes each, the largest vector), got 18446744073709551615"));
+    p.max_memory = 256;  // the table's 21 entries fit, and takes of 32 frames
+    anima::symmetric_playback<T> tight(30, two, p);
+    CHECK(tight.take(256 / sizeof(std::size_t)).size() == 256 / sizeof(std::size_t));
+    CHECK(contains(invalid_argument_message([&] { (void)tight.take(256 / sizeof(std::size_t) + 1); }), "n must be at most"));
+    CHECK(contains(message(40, make_candidates<T>({{5, 0.9}, {35, 0.8}}), p), "the last candidate frame must be below 32"));
+    p.max_memory = -1;
+    CHECK(message(30, two, p) == "anima::symmetric_playback: max_memory must be non-negative, got -1");
+}
+
+TEST_CASE("coverage: any number of clip frames, memory in proportion to the stream") {
+    const std::vector<std::size_t> stream{1, 2, 3, 3};
+    const auto big = anima::coverage<double>(stream, std::numeric_limits<std::size_t>::max());
+    CHECK(big.visited == doctest::Approx(3.0 / 18446744073709551615.0));
+    CHECK(big.evenness == doctest::Approx(-(2 * 0.25 * std::log(0.25) + 0.5 * std::log(0.5)) /
+                                           std::log(18446744073709551615.0)));
+    // Frames far apart are counted as close ones are.
+    const auto far = anima::coverage<double>({0, std::size_t(1) << 40, std::size_t(1) << 40, 7}, std::size_t(1) << 41);
+    const auto near = anima::coverage<double>({0, 9, 9, 7}, std::size_t(1) << 41);
+    CHECK(far.visited == near.visited);
+    CHECK(far.evenness == near.evenness);
+    CHECK(contains(invalid_argument_message([] { anima::coverage<double>({1, 2, 99}, 10); }), "frame 99"));
+}
+
 TEST_CASE_TEMPLATE("symmetric playback: start frame, and errors for unusable candidates or parameters", T, float, double) {
     const auto candidates = make_candidates<T>({{5, 0.3}, {15, 0.3}, {25, 0.3}});
     anima::playback_params<T> p;
@@ -330,11 +380,16 @@ TEST_CASE_TEMPLATE("symmetric playback: start frame, and errors for unusable can
     const T nan = std::numeric_limits<T>::quiet_NaN();
     const std::vector<std::pair<T, T>> bad_bounds{
         {T(-0.1), T(0.5)}, {T(0.6), T(0.5)}, {T(0.1), T(1.5)}, {nan, T(0.5)}, {T(0.1), nan}};
-    for (const auto& [lo, hi] : bad_bounds) {
+    const std::vector<std::string> bound_messages{"min_probability must be in [0, 1], got -0.1",
+                                                  "max_probability must be in [0.6, 1], got 0.5",
+                                                  "max_probability must be in [0.1, 1], got 1.5",
+                                                  "min_probability must be in [0, 1], got nan",
+                                                  "max_probability must be in [0.1, 1], got nan"};
+    for (std::size_t i = 0; i < bad_bounds.size(); ++i) {
         auto q = p;
-        q.min_probability = lo;
-        q.max_probability = hi;
-        CHECK(contains(message(30, candidates, q), "probability bounds"));
+        q.min_probability = bad_bounds[i].first;
+        q.max_probability = bad_bounds[i].second;
+        CHECK(message(30, candidates, q) == "anima::symmetric_playback: " + bound_messages[i]);
     }
     for (T penalty : {T(-0.1), nan, std::numeric_limits<T>::infinity()}) {
         auto q = p;
@@ -344,8 +399,12 @@ TEST_CASE_TEMPLATE("symmetric playback: start frame, and errors for unusable can
     for (T gain : {T(0.9), T(0), nan, std::numeric_limits<T>::infinity()}) {
         auto q = p;
         q.gain = gain;
-        CHECK(contains(message(30, candidates, q), "gain"));
+        CHECK(message(30, candidates, q) ==
+              "anima::symmetric_playback: gain k must be finite and at least 1, got " + anima::detail::argument_text(gain));
     }
+    auto q = p;
+    q.turn_penalty = T(-0.25);
+    CHECK(message(30, candidates, q) == "anima::symmetric_playback: turn penalty must be non-negative and finite, got -0.25");
     // A constant clip has a single candidate: playback says why it cannot run.
     anima::clip<T> held = walk<T>().slice(10, 11);
     held.resize(40);
