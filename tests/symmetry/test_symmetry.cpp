@@ -450,6 +450,18 @@ TEST_CASE("Eq 3: binomial weights match exact integer binomials C(2(n-s), n-r)")
     CHECK(contains(invalid_argument_message([] { anima::binomial_weights<double>(4, 3); }), "binomial_weights"));
 }
 
+TEST_CASE_TEMPLATE("Eq 3: binomial weights refuse a radius beyond max_binomial_radius", T, float, double) {
+    for (const int radius : {std::numeric_limits<int>::max(), anima::max_binomial_radius + 1}) {
+        CHECK(invalid_argument_message([&] { (void)anima::binomial_weights<T>(radius, 0); }) ==
+              "anima::binomial_weights: radius (n of Eq 3) must be at most 10000000, got " + std::to_string(radius));
+    }
+    // symmetry_scores caps the radius at the clip's before it weighs pairs.
+    anima::symmetry_params<T> p;
+    p.radius = std::numeric_limits<int>::max();
+    const auto r = anima::symmetry_scores(matrix<T>::Random(50, 3).eval(), T(1) / T(30), p);
+    CHECK(r.score.allFinite());
+}
+
 TEST_CASE_TEMPLATE("Eq 3-5: banded symmetry equals the brute force over the full distance matrix", T, float, double) {
     struct source {
         const char* name;

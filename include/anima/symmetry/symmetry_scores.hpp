@@ -8,6 +8,7 @@
 // never the full distance matrix.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/flush_denormals.hpp>
 #include <anima/motion/clip.hpp>
@@ -78,6 +79,10 @@ struct symmetry_result {
     std::vector<turning_candidate<T>> candidates;
 };
 
+/// The widest window binomial_weights computes: 10 million pairs, 80 MB of
+/// weights in double (symmetry_scores needs at most half the clip's frames).
+inline constexpr int max_binomial_radius = 10'000'000;
+
 namespace detail {
 inline void check_symmetry_params(int radius, int smoothness, int candidate_radius, int min_pairs, const char* function) {
     if (radius < 1)
@@ -124,11 +129,13 @@ std::vector<T> binomial_weights(int radius, int smoothness, int count) {
 /// Eq 3's weights C(2(n-s), n-r) for r = 1..n, scaled to sum to 1 (only
 /// their ratios matter once the end frames are normalised by the weights
 /// used). Computed in logarithms: C(2n, n) overflows a double near n = 515.
-/// Throws anima::invalid_argument for a radius below 1 or a smoothness
-/// outside [0, (radius+1)/2].
+/// Throws anima::invalid_argument for a radius below 1 or above
+/// max_binomial_radius, or a smoothness outside [0, (radius+1)/2].
 template <class T>
 std::vector<T> binomial_weights(int radius, int smoothness) {
     detail::check_symmetry_params(radius, smoothness, 0, 0, "anima::binomial_weights");
+    check_argument(radius <= max_binomial_radius, "anima::binomial_weights", "radius (n of Eq 3)",
+                   "at most " + std::to_string(max_binomial_radius), radius);
     return detail::binomial_weights<T>(radius, smoothness, radius);
 }
 
