@@ -2,6 +2,7 @@
 #pragma once
 
 #include <anima/core/error.hpp>
+#include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
 #include <algorithm>
