@@ -89,6 +89,29 @@ TEST_CASE_TEMPLATE("normalize, inverse and log reject zero and non-finite quater
     }
 }
 
+TEST_CASE_TEMPLATE("quaternion_cast moves a rotation between GLM and Eigen, float and double, exactly", Q,
+                   ANIMA_QUAT_TYPES) {
+    using T = scalar<Q>;
+    rng r(21);
+    for (int i = 0; i < 20; ++i) {
+        const Q q = r.any<Q>();
+        const lq p = to_lq(q);
+        // Every target type holds the same four components (float -> double exactly).
+        const auto g = anima::quaternion_cast<glm::qua<double>>(q);
+        const auto e = anima::quaternion_cast<Eigen::Quaterniond>(q);
+        CHECK((g.w == p.w && g.x == p.x && g.y == p.y && g.z == p.z));
+        CHECK((e.w() == p.w && e.x() == p.x && e.y() == p.y && e.z() == p.z));
+        // and back, through the other library: the same bits.
+        CHECK(diff(anima::quaternion_cast<Q>(anima::quaternion_cast<Eigen::Quaternion<T>>(
+                       anima::quaternion_cast<glm::qua<T>>(q))),
+                   q) == 0);
+        // Results computed on one type used as the other (a clip's Eigen rotations in a GLM engine).
+        const auto half = anima::slerp(anima::quaternion_cast<Eigen::Quaternion<T>>(q),
+                                       anima::quaternion_cast<Eigen::Quaternion<T>>(anima::identity<Q>()), T(0.5));
+        CHECK(diff(anima::quaternion_cast<glm::qua<T>>(half), anima::slerp(q, anima::identity<Q>(), T(0.5))) == 0);
+    }
+}
+
 TEST_CASE_TEMPLATE("rotate matches q * v and the Eigen and GLM rotation matrices", Q, ANIMA_QUAT_TYPES) {
     using T = scalar<Q>;
     const T e = eps<T>();

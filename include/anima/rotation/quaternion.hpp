@@ -116,6 +116,17 @@ quat_scalar_t<Q> angle_between(const Q& a, const Q& b) {
     return T(2) * std::atan2(detail::vector_norm(d), std::abs(d.w));
 }
 
+/// q as another quaternion type, component for component (GLM <-> Eigen,
+/// float <-> double), not normalised: what moves a clip's Eigen rotations
+/// into a GLM engine and back. (Not glm::quat_cast, which takes a matrix.)
+template <class To, class From,
+          std::enable_if_t<is_quaternion_v<To> && is_quaternion_v<From>, int> = 0>
+To quaternion_cast(const From& q) {
+    using T = quat_scalar_t<To>;
+    const auto p = detail::load(q);
+    return quat_traits<To>::make(static_cast<T>(p.w), static_cast<T>(p.x), static_cast<T>(p.y), static_cast<T>(p.z));
+}
+
 /// Identity rotation of type Q.
 template <class Q, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
 Q identity() {
