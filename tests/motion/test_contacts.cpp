@@ -10,6 +10,8 @@
 #include <anima/motion/frame_features.hpp>
 #include <anima/motion/reorient.hpp>
 #include <anima/motion/resample.hpp>
+#include <anima/motion/speed_limits.hpp>
+#include <anima/motion/velocities.hpp>
 
 #include <doctest/doctest.h>
 
@@ -195,6 +197,29 @@ TEST_CASE_TEMPLATE("clip_foot_skate: contacts by height, over every clip togethe
     CHECK(both.samples == one.samples + anima::clip_foot_skate(still).samples);
     CHECK(both.median <= one.median);  // the still part only adds slow samples
     CHECK(both.max == one.max);
+}
+
+TEST_CASE_TEMPLATE("positions whose differences overflow the scalar type are refused, not measured as NaN", T, float,
+                   double) {
+    // The root jumps by 0.6 x the largest value every frame: each position is
+    // finite, the frame-to-frame speeds (and their squares) are not.
+    auto c = synthetic_clip<T>();
+    const T big = std::numeric_limits<T>::max() * T(0.3);
+    for (std::size_t f = 0; f < c.frames(); ++f)
+        c.set_root_position(f, Eigen::Matrix<T, 3, 1>(f % 2 ? big : -big, c.root_position(f).y(), T(0)));
+    CHECK_THROWS_WITH_AS(anima::find_contacts(c), doctest::Contains("overflows the scalar type; scale the clip down"),
+                         anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::clip_foot_skate(c), doctest::Contains("overflows the scalar type"),
+                         anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::clip_speed_limits(c),
+                         doctest::Contains("anima::clip_speed_limits: the root's speed overflows"),
+                         anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::joint_linear_velocities(c),
+                         doctest::Contains("anima::joint_linear_velocities: a velocity overflows"),
+                         anima::invalid_argument);
+    // The same motion at a sane scale is measured.
+    CHECK_NOTHROW(anima::find_contacts(synthetic_clip<T>()));
+    CHECK(std::isfinite(anima::clip_speed_limits(synthetic_clip<T>()).root));
 }
 
 TEST_CASE("find_contacts on empty, one-frame and standing clips, and bad parameters") {

@@ -405,6 +405,12 @@ contact_set<T> find_contacts_measured(const clip<T>& c, const contact_params<T>&
         foot.contacts = true_runs(foot.in_contact);
         out.feet.push_back(std::move(foot));
     }
+    for (const auto& foot : out.feet)  // e.g. float positions near 1e30, whose differences overflow
+        for (std::size_t f = 0; f < frames; ++f)
+            if (!std::isfinite(foot.speed[f]) || !std::isfinite(foot.rise[f]))
+                throw invalid_argument(who + ": foot '" + foot.name + "' at frame " + std::to_string(f) +
+                                       ": its height or speed overflows the scalar type; scale the clip down "
+                                       "(scale_clip)");
     // An airborne phase shorter than the gap that closes contacts is noise.
     detail::clean_runs(airborne, frames_of(params.min_gap_seconds), 0);
     out.airborne.assign(first, false);

@@ -4,10 +4,12 @@
 // the legs it solves within it (ik/plant_feet.hpp).
 #pragma once
 
+#include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/rotation/quaternion.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -33,6 +35,9 @@ speed_limits<T> clip_speed_limits(const clip<T>& c) {
             out.joint[j] = std::max(out.joint[j], angle_between(c.rotation(f - 1, j), c.rotation(f, j)) * rate);
         if (root_moves) out.root = std::max(out.root, (c.root_position(f) - c.root_position(f - 1)).norm() * rate);
     }
+    if (!std::isfinite(out.root))
+        throw invalid_argument("anima::clip_speed_limits: the root's speed overflows the scalar type; scale the clip "
+                               "down (scale_clip)");
     return out;
 }
 

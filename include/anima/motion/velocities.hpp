@@ -2,6 +2,7 @@
 // rotation curves), both by finite differences over the clip's frame time.
 #pragma once
 
+#include <anima/core/error.hpp>
 #include <anima/motion/clip.hpp>
 #include <anima/motion/finite_difference.hpp>
 #include <anima/motion/forward_kinematics.hpp>
@@ -19,7 +20,11 @@ namespace anima {
 /// global_positions(); units per second.
 template <class T>
 Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> joint_linear_velocities(const clip<T>& c) {
-    return time_derivative(global_positions(c), c.frame_time());
+    auto v = time_derivative(global_positions(c), c.frame_time());
+    if (!v.allFinite())
+        throw invalid_argument("anima::joint_linear_velocities: a velocity overflows the scalar type; scale the clip "
+                               "down (scale_clip)");
+    return v;
 }
 
 /// Angular velocity (radians per second, axis * rate) of joint j's local
