@@ -1,9 +1,12 @@
 // The rotation toolkit on GLM quaternions: blend two orientations, build a
-// smooth squad curve through keys, and measure angles between them.
+// smooth squad curve through keys, measure angles between them, and hand a
+// rotation to Eigen (the clip model's type) and back.
 #include <anima/rotation.hpp>
 
 #include <glm/ext/quaternion_trigonometric.hpp>
 #include <glm/ext/vector_float3.hpp>
+
+#include <Eigen/Geometry>
 
 #include <cstdio>
 
@@ -38,5 +41,11 @@ int main() {
     const glm::vec3 v = anima::to_rotation_vector(keys[2]);
     std::printf("rotation vector: %+.4f %+.4f %+.4f, round trip error %.2e rad\n", v.x, v.y, v.z,
                 anima::angle_between(keys[2], anima::from_rotation_vector<glm::quat>(v)));
+
+    // Into Eigen, as anima::clip stores rotations, and back: the same four numbers.
+    const Eigen::Quaternionf e = anima::quaternion_cast<Eigen::Quaternionf>(keys[2]);
+    const glm::quat back = anima::quaternion_cast<glm::quat>(e);
+    std::printf("as Eigen: w %+.4f x %+.4f y %+.4f z %+.4f; back to GLM: %s\n", e.w(), e.x(), e.y(), e.z(),
+                back == keys[2] ? "identical" : "changed");
     return 0;
 }

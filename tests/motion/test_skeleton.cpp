@@ -408,6 +408,9 @@ TEST_CASE_TEMPLATE("clip construction, frame time, resize", T, float, double) {
     CHECK(c.duration() == T(0.375));
     CHECK(c.rotations().size() == 16);
     CHECK(c.translations().size() == 8);
+    // clip_frame_bytes is what the storage holds a frame.
+    CHECK(anima::clip_frame_bytes(c.skeleton()) * 4 ==
+          static_cast<double>(c.rotations().size() * 4 * sizeof(T) + c.translations().size() * 3 * sizeof(T)));
     for (std::size_t f = 0; f < 4; ++f)
         for (std::size_t j = 0; j < 4; ++j) {
             CHECK(c.rotation(f, j).coeffs() == Q::Identity().coeffs());

@@ -562,12 +562,21 @@ TEST_CASE_TEMPLATE("video-texture playback: in range, follows the table, reprodu
     CHECK(static_cast<double>(to3) / static_cast<double>(from0) == doctest::Approx(0.3).epsilon(0.05));
 }
 
+namespace {
+// The walk's first 40 frames of features, and video_texture_jumps' message on them.
+template <class T>
+matrix<T> jump_features() {
+    return anima::frame_features(walk<T>()).topRows(40);
+}
+template <class T>
+std::string jumps_message(const anima::video_texture_params<T>& p, const matrix<T>& dofs) {
+    return invalid_argument_message([&] { anima::video_texture_jumps(dofs, walk<T>().frame_time(), p); });
+}
+}  // namespace
+
 TEST_CASE_TEMPLATE("video-texture jumps: the largest min_jump, DOFs past the scalar's range, values named", T, float, double) {
-    const matrix<T> m = anima::frame_features(walk<T>()).topRows(40);
-    const T dt = walk<T>().frame_time();
-    const auto message = [&](const anima::video_texture_params<T>& p, const matrix<T>& dofs) {
-        return invalid_argument_message([&] { anima::video_texture_jumps(dofs, dt, p); });
-    };
+    const matrix<T> m = jump_features<T>();
+    const auto message = jumps_message<T>;
     anima::video_texture_params<T> p;
     p.min_jump = std::numeric_limits<int>::max();
     CHECK(message(p, m) == "anima::video_texture_jumps: the clip has 40 frames; jumps of at least 2147483647 frames "
@@ -600,11 +609,8 @@ TEST_CASE_TEMPLATE("video-texture jumps: the largest min_jump, DOFs past the sca
 }
 
 TEST_CASE_TEMPLATE("video-texture jumps and playback: errors for bad parameters, short clips, bad tables", T, float, double) {
-    const matrix<T> m = anima::frame_features(walk<T>()).topRows(40);
-    const T dt = walk<T>().frame_time();
-    const auto message = [&](const anima::video_texture_params<T>& p, const matrix<T>& dofs) {
-        return invalid_argument_message([&] { anima::video_texture_jumps(dofs, dt, p); });
-    };
+    const matrix<T> m = jump_features<T>();
+    const auto message = jumps_message<T>;
     anima::video_texture_params<T> p;
     for (T scale : {T(0), T(-1), std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::infinity()}) {
         auto q = p;
@@ -634,7 +640,7 @@ TEST_CASE_TEMPLATE("video-texture jumps and playback: errors for bad parameters,
     // A clip that never moves: every jump is as good as the continuation.
     anima::clip<T> held = walk<T>().slice(10, 11);
     held.resize(30);
-    const auto frozen = anima::video_texture_jumps(anima::frame_features(held), dt, p);
+    const auto frozen = anima::video_texture_jumps(anima::frame_features(held), walk<T>().frame_time(), p);
     for (const auto& row : frozen.from)
         for (const auto& e : row) CHECK(std::isfinite(e.probability));
     CHECK(frozen.sigma > T(0));

@@ -42,13 +42,20 @@ std::string argument_text(const V& value) {
 }  // namespace detail
 
 /// Throws anima::invalid_argument "function: argument must be requirement,
-/// got value" unless `ok`.
+/// got value". For a requirement whose text costs an allocation, so that it
+/// is built only once the check has failed.
+template <class V>
+[[noreturn]] void fail_argument(std::string_view function, std::string_view argument, std::string_view requirement,
+                                const V& value) {
+    throw invalid_argument(std::string(function) + ": " + std::string(argument) + " must be " +
+                           std::string(requirement) + ", got " + detail::argument_text(value));
+}
+
+/// fail_argument unless `ok`.
 template <class V>
 void check_argument(bool ok, std::string_view function, std::string_view argument, std::string_view requirement,
                     const V& value) {
-    if (ok) return;
-    throw invalid_argument(std::string(function) + ": " + std::string(argument) + " must be " +
-                           std::string(requirement) + ", got " + detail::argument_text(value));
+    if (!ok) fail_argument(function, argument, requirement, value);
 }
 
 /// value > 0 and finite (NaN fails).
@@ -82,8 +89,7 @@ void check_in_range(std::string_view function, std::string_view argument, const 
 /// value >= least (integers: counts, sizes, iterations).
 template <class I>
 void check_at_least(std::string_view function, std::string_view argument, const I& value, const I& least) {
-    if (value >= least) return;  // the requirement's text only when it fails: no allocation on success
-    check_argument(false, function, argument, "at least " + detail::argument_text(least), value);
+    if (!(value >= least)) fail_argument(function, argument, "at least " + detail::argument_text(least), value);
 }
 
 /// A size that must match: "function: argument has 3 entries, expected 4".

@@ -203,4 +203,12 @@ struct clip_storage {
 
 }  // namespace detail
 
+/// The bytes one frame of a clip of skeleton sk stores: a rotation per
+/// joint and a translation per translated joint. What the library's
+/// max_memory limits count a clip by.
+template <class T>
+double clip_frame_bytes(const skeleton<T>& sk) {
+    return static_cast<double>(4 * sizeof(T) * sk.size() + 3 * sizeof(T) * sk.translated_joint_count());
+}
+
 }  // namespace anima

@@ -43,10 +43,7 @@ clip<T> resample(const clip<T>& c, nondeduced_t<T> frame_time, double max_memory
     }
     // Tolerate rounding so that e.g. 1/120 -> 1/120 keeps the last frame.
     const double steps = std::floor(static_cast<double>(c.duration() / frame_time) + 1e-6);
-    std::size_t translated = 0;
-    for (std::size_t j = 0; j < c.joints(); ++j) translated += c.skeleton().translation_slot(j) >= 0 ? 1 : 0;
-    const double frame_bytes = static_cast<double>(sizeof(T) * (4 * c.joints() + 3 * translated));
-    const double bytes = (steps + 1) * frame_bytes;
+    const double bytes = (steps + 1) * clip_frame_bytes(c.skeleton());
     if (!(steps < 1e18) || (max_memory > 0 && !(bytes <= max_memory)))
         throw invalid_argument("anima::resample: frame time " + detail::argument_text(frame_time) + " over " +
                                detail::argument_text(c.duration()) + " s makes " + detail::argument_text(steps + 1) +

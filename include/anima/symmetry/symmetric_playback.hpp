@@ -98,9 +98,9 @@ public:
         // The table covers frames 0 .. last candidate, not the whole clip.
         const std::size_t most = detail::playback_entry_limit(sizeof(long), is_candidate_.max_size(), params.max_memory, who);
         if (last_ >= most)
-            check_argument(false, who, "the last candidate frame",
-                           "below " + std::to_string(most) + detail::playback_limit_text(sizeof(long), params.max_memory),
-                           last_);
+            fail_argument(who, "the last candidate frame",
+                          "below " + std::to_string(most) + detail::playback_limit_text(sizeof(long), params.max_memory),
+                          last_);
         is_candidate_.assign(last_ + 1, -1);
         for (const auto& c : candidates) {
             if (is_candidate_[c.frame] >= 0) fail("frame " + std::to_string(c.frame) + " is listed twice");
@@ -141,10 +141,10 @@ public:
         const char* who = "anima::symmetric_playback::take";
         const std::size_t most = detail::playback_entry_limit(sizeof(std::size_t), out.max_size(), params_.max_memory, who);
         if (n > most)
-            check_argument(false, who, "n",
-                           "at most " + std::to_string(most) +
-                               detail::playback_limit_text(sizeof(std::size_t), params_.max_memory),
-                           n);
+            fail_argument(who, "n",
+                          "at most " + std::to_string(most) +
+                              detail::playback_limit_text(sizeof(std::size_t), params_.max_memory),
+                          n);
         out.resize(n);
         for (auto& f : out) f = next();
         return out;

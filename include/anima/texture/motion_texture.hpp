@@ -363,20 +363,17 @@ void smooth_texture_seams(motion_texture<T>& out, const motion_texton<T>& texton
 template <class T>
 void check_texture_memory(const skeleton<T>& sk, std::size_t frames, double max_memory, const char* function) {
     check_argument(max_memory >= 0, function, "max_memory", "non-negative", max_memory);
-    std::size_t translated = 0;
-    for (std::size_t j = 0; j < sk.size(); ++j) translated += sk.translation_slot(j) >= 0 ? 1 : 0;
-    const double frame_bytes =
-        static_cast<double>(sizeof(T) * (4 * sk.size() + 3 * translated) + sizeof(std::size_t));
+    const double frame_bytes = clip_frame_bytes(sk) + static_cast<double>(sizeof(std::size_t));  // clip + stream
     const double addressable = static_cast<double>(std::numeric_limits<std::ptrdiff_t>::max());
     const double limit = max_memory > 0 ? std::min(max_memory, addressable) : addressable;
     const double most = std::floor(limit / frame_bytes);
     if (static_cast<double>(frames) <= most) return;
-    check_argument(false, function, "frames",
-                   "at most " + detail::argument_text(most) + " (" + detail::argument_text(frame_bytes) +
-                       " bytes a frame, " +
-                       (max_memory > 0 ? "max_memory " + detail::argument_text(max_memory / 1048576.0) + " MiB)"
-                                       : std::string("the address space)")),
-                   frames);
+    fail_argument(function, "frames",
+                  "at most " + detail::argument_text(most) + " (" + detail::argument_text(frame_bytes) +
+                      " bytes a frame, " +
+                      (max_memory > 0 ? "max_memory " + detail::argument_text(max_memory / 1048576.0) + " MiB)"
+                                      : std::string("the address space)")),
+                  frames);
 }
 
 }  // namespace detail

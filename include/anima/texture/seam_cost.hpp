@@ -62,6 +62,14 @@ struct seam_cost_params {
 
 /// Eq 8-9 on the lattice of two overlapping motions.
 template <class T>
+class seam_cost;
+
+namespace detail {
+template <class T>
+T seam_edge(const seam_cost<T>& cost, std::size_t r1, std::size_t t1, std::size_t r2, std::size_t t2);
+}  // namespace detail
+
+template <class T>
 class seam_cost {
 public:
     using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
@@ -147,8 +155,7 @@ public:
     T edge(std::size_t r1, std::size_t t1, std::size_t r2, std::size_t t2) const {
         check_node("anima::seam_cost::edge", r1, t1);
         check_node("anima::seam_cost::edge", r2, t2);
-        return capacity(mismatch_(index(r1), index(t1)) + mismatch_(index(r2), index(t2)),
-                        gradient_(index(r1), index(t1)) + gradient_(index(r2), index(t2)));
+        return detail::seam_edge(*this, r1, t1, r2, t2);
     }
 
     /// The capacity policy for a mismatch sum M (Eq 8) and gradient sum (Eq 9).

@@ -300,9 +300,9 @@ void joint_rates(const clip<T>& c, std::ptrdiff_t first, std::ptrdiff_t last, co
 /// The checks of timing_params; the errors name `who`.
 inline void check_timing_params(const timing_params& p, const char* who) {
     check_non_negative(who, "timing_params::min_duration", p.min_duration);
-    if (!(p.max_duration >= p.min_duration) || !std::isfinite(p.max_duration))  // the message only when it fails
-        check_argument(false, who, "timing_params::max_duration",
-                       "finite and at least min_duration (" + argument_text(p.min_duration) + ")", p.max_duration);
+    if (!(p.max_duration >= p.min_duration) || !std::isfinite(p.max_duration))
+        fail_argument(who, "timing_params::max_duration",
+                      "finite and at least min_duration (" + argument_text(p.min_duration) + ")", p.max_duration);
     check_positive(who, "timing_params::min_speed", p.min_speed);
     check_positive(who, "timing_params::min_acceleration", p.min_acceleration);
     check_non_negative(who, "timing_params::speed_window", p.speed_window);

@@ -177,9 +177,7 @@ void check_transition(const clip<T>& a, std::size_t trigger, const clip<T>& b, s
 template <class T>
 std::size_t transition_steps(const clip<T>& a, T duration, const transition_params& params, const char* who) {
     const double steps = std::max(1.0, std::round(static_cast<double>(duration) / static_cast<double>(a.frame_time())));
-    std::size_t translated = 0;
-    for (std::size_t j = 0; j < a.joints(); ++j) translated += a.skeleton().translation_slot(j) >= 0 ? 1 : 0;
-    const double bytes = (steps - 1) * static_cast<double>(sizeof(T) * (4 * a.joints() + 3 * translated));
+    const double bytes = (steps - 1) * clip_frame_bytes(a.skeleton());
     if (params.max_memory > 0 && !(bytes <= params.max_memory))
         throw invalid_argument(std::string(who) + ": a transition of " + argument_text(duration) +
                                " s at a frame time of " + argument_text(a.frame_time()) + " s has " +
@@ -220,6 +218,21 @@ Eigen::Matrix<T, 3, 1> root_velocity_ahead(const clip<T>& c, std::size_t f) {
 template <class T>
 bool other_frame_time(const clip<T>& a, const clip<T>& b) {
     return std::abs(b.frame_time() - a.frame_time()) > T(1e-9) * a.frame_time();
+}
+
+/// Each joint's method: the one given, else the paper's rule (fingers lerp,
+/// a turn of large_angle or more squad, the rest slerp).
+template <class T>
+void choose_methods(const transition_params& params, const std::vector<joint_role>& roles,
+                    const timing_result<T>& timing, std::vector<interpolation>& methods) {
+    methods.resize(roles.size());
+    for (std::size_t j = 0; j < roles.size(); ++j) {
+        const interpolation chosen = params.methods.empty() ? interpolation::automatic : params.methods[j];
+        if (chosen != interpolation::automatic) methods[j] = chosen;
+        else if (roles[j] == joint_role::finger) methods[j] = interpolation::lerp;
+        else if (timing.joints[j].angle >= static_cast<T>(params.large_angle)) methods[j] = interpolation::squad;
+        else methods[j] = interpolation::slerp;
+    }
 }
 
 /// The transition from checked arguments, B at A's frame time.
@@ -268,15 +281,7 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
     const bool hermite = translated && params.continuous_root && !out.flight;
     out.root_velocity_at_b = hermite ? vec3(turn * root_velocity_ahead(b, b_start)) : vec3::Zero();
 
-    // Per-joint methods.
-    out.methods.resize(nj);
-    for (std::size_t j = 0; j < nj; ++j) {
-        const interpolation chosen = params.methods.empty() ? interpolation::automatic : params.methods[j];
-        if (chosen != interpolation::automatic) out.methods[j] = chosen;
-        else if (roles[j] == joint_role::finger) out.methods[j] = interpolation::lerp;
-        else if (out.timing.joints[j].angle >= static_cast<T>(params.large_angle)) out.methods[j] = interpolation::squad;
-        else out.methods[j] = interpolation::slerp;
-    }
+    choose_methods(params, roles, out.timing, out.methods);
 
     // The in-between frames, in A's skeleton; the clip keeps its storage.
     if (out.frames.skeleton() != a.skeleton()) out.frames = clip<T>(a.skeleton(), 0, dt);
