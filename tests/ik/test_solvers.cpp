@@ -13,6 +13,8 @@
 
 #include <glm/ext/quaternion_double.hpp>
 #include <glm/ext/quaternion_float.hpp>
+#include <glm/ext/vector_double3.hpp>
+#include <glm/ext/vector_float3.hpp>
 
 using namespace anima;
 using anima_test::bundled;
@@ -391,6 +393,53 @@ TEST_CASE_TEMPLATE("orientation and pose goals; glm and Eigen quaternions give t
     const auto r = solve_ik(arm, goals, ik_vector<T>::Zero(7), damped_least_squares<T>(adaptive), p);
     CHECK(r.converged());
     CHECK(r.max_angle_error <= p.angle_tolerance);
+}
+
+/// Two goals are the same field for field.
+template <class T>
+void check_same_goal(const ik_goal<T>& a, const ik_goal<T>& b) {
+    CHECK(a.kind == b.kind);
+    CHECK(a.joint == b.joint);
+    CHECK(a.offset == b.offset);
+    CHECK(a.position == b.position);
+    CHECK(a.direction == b.direction);
+    CHECK(a.axis == b.axis);
+    CHECK(a.orientation.coeffs() == b.orientation.coeffs());
+    CHECK(a.orientation_scale == b.orientation_scale);
+    CHECK(a.weight == b.weight);
+}
+
+TEST_CASE_TEMPLATE("goals from GLM vectors are the goals from Eigen vectors, and solve alike", T, double, float) {
+    using gvec = glm::vec<3, T>;
+    const auto glm_of = [](const vec3<T>& v) { return gvec(v.x(), v.y(), v.z()); };
+    const vec3<T> point(T(0.3), T(-1.25), T(2)), direction(T(0), T(0.6), T(0.8)), offset(T(0.1), T(0), T(-0.2));
+    const gvec gp = glm_of(point), gd = glm_of(direction), go = glm_of(offset);
+    check_same_goal(position_goal(4, gp), position_goal(4, point));
+    check_same_goal(position_goal(4, gp, go), position_goal(4, point, offset));
+    check_same_goal(line_goal(2, gp, gd), line_goal(2, point, direction));
+    check_same_goal(line_goal(2, gp, gd, go), line_goal(2, point, direction, offset));
+    check_same_goal(plane_goal(3, gp, gd, go), plane_goal(3, point, direction, offset));
+    check_same_goal(half_space_goal(5, gp, gd), half_space_goal(5, point, direction));
+    check_same_goal(aim_goal(6, gd, gp), aim_goal(6, direction, point));
+    const Eigen::Quaternion<T> turn(Eigen::AngleAxis<T>(T(0.7), direction));
+    glm::qua<T> gturn;
+    gturn.w = turn.w();
+    gturn.x = turn.x();
+    gturn.y = turn.y();
+    gturn.z = turn.z();
+    check_same_goal(pose_goal(6, gp, gturn, T(0.5)), pose_goal(6, point, turn, T(0.5)));
+    check_same_goal(pose_goal(6, gp, turn), pose_goal(6, point, turn));
+    // Solved from the same start, the GLM goal reaches the same pose.
+    const auto arm = anima_ik_test::seven_dof_arm<T>();
+    random_source rng(11);
+    const vec3<T> target = anima_ik_test::point_at(arm, random_q(arm, rng), 6, anima_ik_test::arm_tip<T>());
+    const auto p = arm_params<T>();
+    const auto from_eigen = solve_ik(arm, {position_goal(6, target, anima_ik_test::arm_tip<T>())},
+                                     ik_vector<T>::Zero(7), damped_least_squares<T>{}, p);
+    const auto from_glm = solve_ik(arm, {position_goal(6, glm_of(target), glm_of(anima_ik_test::arm_tip<T>()))},
+                                   ik_vector<T>::Zero(7), damped_least_squares<T>{}, p);
+    CHECK(from_eigen.converged());
+    CHECK(from_glm.q == from_eigen.q);
 }
 
 TEST_CASE_TEMPLATE("CCD with orientation, pose and aim goals on the CMU arm", T, double, float) {

@@ -12,6 +12,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <glm/ext/vector_double3.hpp>
+#include <glm/ext/vector_float3.hpp>
 
 #include <cmath>
 #include <cstddef>
@@ -142,6 +144,55 @@ ik_goal<quat_scalar_t<Q>> pose_goal(std::size_t joint, const Eigen::Matrix<quat_
     g.position = target;
     g.orientation_scale = orientation_scale;
     return g;
+}
+
+// The same goals from GLM vectors (glm::vec3, glm::dvec3): a GLM program
+// builds its goals from the vectors it already has. The scalar type is the
+// vectors'; the goal holds Eigen vectors, as the solvers do.
+namespace detail {
+
+template <class T, glm::qualifier P>
+Eigen::Matrix<T, 3, 1> eigen_vector(const glm::vec<3, T, P>& v) {
+    return {v.x, v.y, v.z};
+}
+
+}  // namespace detail
+
+template <class T, glm::qualifier P>
+ik_goal<T> position_goal(std::size_t joint, const glm::vec<3, T, P>& target,
+                         const glm::vec<3, T, P>& offset = glm::vec<3, T, P>(T(0))) {
+    return position_goal(joint, detail::eigen_vector(target), detail::eigen_vector(offset));
+}
+
+template <class T, glm::qualifier P>
+ik_goal<T> line_goal(std::size_t joint, const glm::vec<3, T, P>& point, const glm::vec<3, T, P>& direction,
+                     const glm::vec<3, T, P>& offset = glm::vec<3, T, P>(T(0))) {
+    return line_goal(joint, detail::eigen_vector(point), detail::eigen_vector(direction), detail::eigen_vector(offset));
+}
+
+template <class T, glm::qualifier P>
+ik_goal<T> plane_goal(std::size_t joint, const glm::vec<3, T, P>& point, const glm::vec<3, T, P>& normal,
+                      const glm::vec<3, T, P>& offset = glm::vec<3, T, P>(T(0))) {
+    return plane_goal(joint, detail::eigen_vector(point), detail::eigen_vector(normal), detail::eigen_vector(offset));
+}
+
+template <class T, glm::qualifier P>
+ik_goal<T> half_space_goal(std::size_t joint, const glm::vec<3, T, P>& point, const glm::vec<3, T, P>& normal,
+                           const glm::vec<3, T, P>& offset = glm::vec<3, T, P>(T(0))) {
+    return half_space_goal(joint, detail::eigen_vector(point), detail::eigen_vector(normal),
+                           detail::eigen_vector(offset));
+}
+
+template <class T, glm::qualifier P>
+ik_goal<T> aim_goal(std::size_t joint, const glm::vec<3, T, P>& axis, const glm::vec<3, T, P>& direction) {
+    return aim_goal(joint, detail::eigen_vector(axis), detail::eigen_vector(direction));
+}
+
+/// A pose goal with a GLM target and any quaternion type of its scalar.
+template <class Q, glm::qualifier P, std::enable_if_t<is_quaternion_v<Q>, int> = 0>
+ik_goal<quat_scalar_t<Q>> pose_goal(std::size_t joint, const glm::vec<3, quat_scalar_t<Q>, P>& target,
+                                    const Q& orientation, quat_scalar_t<Q> orientation_scale = 1) {
+    return pose_goal(joint, detail::eigen_vector(target), orientation, orientation_scale);
 }
 
 /// Checks goals against a tree: the tree has a free DOF, joints exist, values finite (and small
