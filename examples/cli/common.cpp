@@ -254,7 +254,7 @@ std::string join(const std::vector<std::string>& items, std::string_view separat
 // ---------------------------------------------------------------------------
 
 anima::signed_axis parse_signed_axis(std::string_view text) {
-    if (const auto axis = anima::parse_signed_axis(text)) return *axis;
+    if (const auto axis = anima::try_parse_signed_axis(text)) return *axis;
     throw failure("'" + std::string(text) + "' is not an axis: use +X, -X, +Y, -Y, +Z or -Z");
 }
 

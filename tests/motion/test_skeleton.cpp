@@ -344,8 +344,12 @@ TEST_CASE("skeleton children, translation slots and channel counts") {
     // Channel names.
     for (channel c : {xp, yp, zp, xr, yr, zr}) CHECK(anima::parse_channel(anima::to_string(c)) == c);
     CHECK(anima::parse_channel("zROTATION") == zr);
-    CHECK_FALSE(anima::parse_channel("Wrotation").has_value());
-    CHECK_FALSE(anima::parse_channel("Xrot").has_value());
+    for (const char* bad : {"Wrotation", "Xrot", "", "Xrotation ", "Xposition2"}) {
+        CHECK_FALSE(anima::try_parse_channel(bad).has_value());
+        const std::string expected = "anima::parse_channel: '" + std::string(bad) + "' is not a BVH channel";
+        CHECK_THROWS_WITH_AS(anima::parse_channel(bad), doctest::Contains(expected.c_str()), anima::invalid_argument);
+    }
+    for (channel c : {xp, yp, zp, xr, yr, zr}) CHECK(anima::try_parse_channel(anima::to_string(c)) == c);
 }
 
 // =====================================================================================
@@ -974,7 +978,7 @@ TEST_CASE("DOF view of an empty clip") {
 // figure guesses and reorientation
 // =====================================================================================
 
-TEST_CASE("parse_signed_axis reads back what to_string writes, in any case, the sign optional") {
+TEST_CASE("parse_signed_axis reads back what to_string writes, in any case, the sign optional; try_parse_signed_axis is empty where it throws") {
     for (const anima::axis a : {anima::axis::x, anima::axis::y, anima::axis::z})
         for (const int sign : {1, -1}) {
             const anima::signed_axis s{a, sign};
@@ -982,7 +986,12 @@ TEST_CASE("parse_signed_axis reads back what to_string writes, in any case, the 
             CHECK(anima::parse_signed_axis(anima::ascii_lower(anima::to_string(s))) == s);
         }
     CHECK(anima::parse_signed_axis("Z") == anima::signed_axis{anima::axis::z, 1});
-    for (const char* bad : {"", "+", "-", "W", "+XY", "++X", " X", "X "}) CHECK_FALSE(anima::parse_signed_axis(bad));
+    CHECK(anima::try_parse_signed_axis("-x") == anima::signed_axis{anima::axis::x, -1});
+    for (const char* bad : {"", "+", "-", "W", "+XY", "++X", " X", "X "}) {
+        CHECK_FALSE(anima::try_parse_signed_axis(bad));
+        const std::string expected = "anima::parse_signed_axis: '" + std::string(bad) + "' is not a signed axis";
+        CHECK_THROWS_WITH_AS(anima::parse_signed_axis(bad), doctest::Contains(expected.c_str()), anima::invalid_argument);
+    }
 }
 
 TEST_CASE("guess_up_axis and guess_units on the bundled clips") {

@@ -197,7 +197,7 @@ private:
                 for (int k = 0; k < n; ++k) {
                     const std::string_view name = next();
                     if (name.empty()) fail(line_, "file ends inside the CHANNELS of joint '" + j.name + "'");
-                    const auto ch = parse_channel(name);
+                    const auto ch = try_parse_channel(name);
                     if (!ch)
                         fail(tok_line_, "CHANNELS of joint '" + j.name + "' declares " + std::to_string(n) +
                                             " channels but item " + std::to_string(k + 1) + " is '" +

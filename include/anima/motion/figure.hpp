@@ -34,7 +34,7 @@ inline std::string to_string(signed_axis a) {
 
 /// The signed axis `text` names, the inverse of to_string: "+Y", "-z" or
 /// "Z" (the sign optional, + by default; any case); empty for anything else.
-inline std::optional<signed_axis> parse_signed_axis(std::string_view text) {
+inline std::optional<signed_axis> try_parse_signed_axis(std::string_view text) {
     int sign = 1;
     if (!text.empty() && (text[0] == '+' || text[0] == '-')) {
         sign = text[0] == '-' ? -1 : 1;
@@ -44,6 +44,14 @@ inline std::optional<signed_axis> parse_signed_axis(std::string_view text) {
     const char c = ascii_lower(text)[0];
     if (c < 'x' || c > 'z') return std::nullopt;
     return signed_axis{static_cast<anima::axis>(c - 'x'), sign};
+}
+
+/// As try_parse_signed_axis, and throws anima::invalid_argument naming the
+/// text for anything that is not a signed axis.
+inline signed_axis parse_signed_axis(std::string_view text) {
+    if (const auto a = try_parse_signed_axis(text)) return *a;
+    throw invalid_argument("anima::parse_signed_axis: '" + detail::escape_for_message(text, 200) +
+                           "' is not a signed axis: use +X, -X, +Y, -Y, +Z or -Z (the sign optional, any case)");
 }
 
 /// Unit vector of a signed axis.

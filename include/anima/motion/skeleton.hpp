@@ -36,7 +36,7 @@ inline std::string_view to_string(channel c) {
 }
 
 /// Parses a BVH channel name (case-insensitive); empty when it is not one.
-inline std::optional<channel> parse_channel(std::string_view s) {
+inline std::optional<channel> try_parse_channel(std::string_view s) {
     if (s.size() != 9) return std::nullopt;
     const auto lower = [](char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; };
     const char a = lower(s[0]);
@@ -47,6 +47,15 @@ inline std::optional<channel> parse_channel(std::string_view s) {
     if (rest == "position") return static_cast<channel>(ax);
     if (rest == "rotation") return static_cast<channel>(3 + ax);
     return std::nullopt;
+}
+
+/// As try_parse_channel, and throws anima::invalid_argument naming the text
+/// for anything that is not a channel name.
+inline channel parse_channel(std::string_view s) {
+    if (const auto c = try_parse_channel(s)) return *c;
+    throw invalid_argument("anima::parse_channel: '" + detail::escape_for_message(s, 200) +
+                           "' is not a BVH channel: use Xposition, Yposition, Zposition, Xrotation, Yrotation or "
+                           "Zrotation (any case)");
 }
 
 template <class T>
