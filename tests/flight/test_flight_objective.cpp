@@ -188,6 +188,27 @@ TEST_CASE_TEMPLATE("key times and root positions beyond the documented bounds ar
     CHECK(contains(invalid_argument_message([&] { anima::flight_problem<T>(model, keys, {}); }), "outside +-1e6 s"));
 }
 
+TEST_CASE_TEMPLATE("keys whose objective overflows (times a hair apart, huge gravity) are refused, naming the interval",
+                   T, float, double) {
+    std::mt19937 rng(11);
+    const auto model = random_model<T>(rng, 3);
+    auto keys = random_keys<T>(rng, model.size(), 4, T(1));
+    const anima::flight_problem<T> fine(model, keys, {});
+    CHECK(std::isfinite(fine.objective(keys.times)));
+    // Forces go as 1 / dt^2, squared in the objective: 1e-12 s overflows
+    // float, 1e-100 s double.
+    auto squeezed = keys;
+    const T tiny = static_cast<T>(std::is_same_v<T, float> ? 1e-12 : 1e-100);
+    for (std::size_t k = 0; k < squeezed.size(); ++k) squeezed.times[k] = tiny * static_cast<T>(k);
+    CHECK(contains(invalid_argument_message([&] { anima::flight_problem<T>(model, squeezed, {}); }),
+                   "the objective at the keys' own times is not finite in this precision (shortest key interval " +
+                       anima::detail::argument_text(tiny)));
+    anima::flight_settings<T> heavy;
+    heavy.gravity = vec3<T>(T(0), -static_cast<T>(std::is_same_v<T, float> ? 1e30 : 1e300), T(0));
+    CHECK(contains(invalid_argument_message([&] { anima::flight_problem<T>(model, keys, heavy); }),
+                   "lessen gravity"));
+}
+
 TEST_CASE_TEMPLATE("momentum_drift is not defined (empty) without mean angular momentum, defined otherwise", T, float, double) {
     std::mt19937 rng(5);
     const auto model = random_model<T>(rng, 3);

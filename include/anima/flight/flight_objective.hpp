@@ -176,6 +176,17 @@ public:
             throw invalid_argument(std::string(who) + ": joint_tolerance (e2) must be finite and >= 0, got " +
                                    detail::argument_text(settings_.joint_tolerance));
         quats_ = detail::aligned_key_quaternions(keys_);
+        // Forces grow as 1 / dt^2 and the objective squares them: key times a
+        // hair apart (or a huge gravity) overflow it, in float long before
+        // double. Refused here, where the keys are named, rather than as a
+        // non-finite start in the optimiser.
+        if (!std::isfinite(objective(keys_.times))) {
+            T shortest = keys_.times[1] - keys_.times[0];
+            for (std::size_t k = 2; k < keys_.size(); ++k) shortest = std::min(shortest, keys_.times[k] - keys_.times[k - 1]);
+            throw invalid_argument(std::string(who) + ": the objective at the keys' own times is not finite in this "
+                                   "precision (shortest key interval " + detail::argument_text(shortest) +
+                                   " s): lengthen the shortest interval, or lessen gravity or the root's moves");
+        }
     }
 
     const rigid_body_model<T>& model() const noexcept { return model_; }
