@@ -23,7 +23,7 @@ namespace {
 struct transition_options {
     std::string a, b, output, view, feet_plot, method = "variable", timing = "velocity";
     std::size_t at = 0, to = 0;
-    double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1;
+    double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1, root_speed_band = 0;
     bool json = false, no_plant_feet = false, root_from_feet = true;
 };
 
@@ -116,7 +116,9 @@ void print_transition(const transition_options& o, const json& out, const std::s
     }
     std::cout << "foot skate in the window: " << format_fixed(out["foot_skate"]["ratio"].get<double>(), 2) << "x the clips' own";
     if (!o.no_plant_feet) std::cout << " (" << format_fixed(out["foot_skate_unplanted"]["ratio"].get<double>(), 2) << "x before planting)";
-    std::cout << '\n';
+    std::cout << "\nroot's ground speed in the window: at least " << format_fixed(out["root_speed"]["ratio"].get<double>(), 2)
+              << "x the slower end's (" << format_number(out["root_speed"]["min"].get<double>(), 3) << " of "
+              << format_number(out["root_speed"]["ends"].get<double>(), 3) << " m/s)\n";
     if (!o.output.empty()) std::cout << "wrote " << o.output << " (skeleton and offsets of " << file_name(o.a) << ")\n";
     if (!o.feet_plot.empty()) std::cout << "wrote " << o.feet_plot << ": feet through the window, before and after planting\n";
     if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
@@ -178,6 +180,7 @@ void run_transition(const transition_options& o) {
     const auto unplanted = joined;
     anima::transition_feet_params<double> feet;
     feet.root_from_feet = o.root_from_feet;
+    feet.root_speed_band = o.root_speed_band;
     if (!o.no_plant_feet) joined = anima::plant_transition_feet(joined, feet);
     const auto as_written = o.no_plant_feet ? as_joined : anima::measure_transition(joined, roles, up, mpu);
     const auto skate = [](const anima::transition_quality<double>& q) {
@@ -186,6 +189,10 @@ void run_transition(const transition_options& o) {
     out["feet_planted"] = !o.no_plant_feet;
     out["root_from_feet"] = !o.no_plant_feet && o.root_from_feet;
     out["foot_skate"] = skate(as_written);
+    out["root_speed"] = {{"min", as_written.root_speed_min},
+                         {"ends", as_written.root_speed_ends},
+                         {"ratio", as_written.root_speed_ratio}};
+    out["root_speed_band"] = o.no_plant_feet ? 0.0 : o.root_speed_band;
     if (!o.no_plant_feet) out["foot_skate_unplanted"] = skate(as_joined);
     if (!o.feet_plot.empty()) {
         write_feet_plot(o.feet_plot,
@@ -261,5 +268,11 @@ void register_transition(CLI::App& app) {
                   "Before the legs plant the feet, move the root through the window so that feet on the ground "
                   "stay put, within the clips' own root acceleration (default; --legs-only leaves the root's path "
                   "as the method made it)");
+    add_setting(*sub, "--root-speed-band", opts->root_speed_band,
+                "Planting: keep the root's ground speed through the window at least B x the slower end's (along "
+                "their common way) and at most the faster end's / B, so that a run into a run does not stall; it "
+                "costs skate (0: off)",
+                number_in(0, 1))
+        ->type_name("B");
     sub->add_flag("--json", opts->json, "Print a JSON object instead of text");
 }

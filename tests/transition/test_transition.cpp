@@ -1283,6 +1283,39 @@ TEST_CASE("a figure without feet: no skate, nothing planted, no error") {
     CHECK_FALSE(anima::has_feet(box));
 }
 
+TEST_CASE_TEMPLATE("measure_transition: the root's slowest ground speed in the window against its ends', by hand",
+                   T, float, double) {
+    using anima::channel;
+    using v3 = Eigen::Matrix<T, 3, 1>;
+    anima::skeleton<T> sk;
+    sk.add_joint("Box", -1, v3::Zero(),
+                 {channel::x_position, channel::y_position, channel::z_position, channel::z_rotation,
+                  channel::x_rotation, channel::y_rotation});
+    // Forward 1 unit a frame, a quarter of that over frames 26..34; rising
+    // 5 units a frame all along (up, +Y: not ground speed).
+    anima::clip<T> box(sk, 60, T(1) / T(60));
+    T x = 0;
+    for (std::size_t f = 0; f < box.frames(); ++f) {
+        if (f > 0) x += f >= 26 && f <= 34 ? T(0.25) : T(1);
+        box.set_root_position(f, v3(x, T(5) * static_cast<T>(f), T(0)));
+    }
+    const anima::joined_clip<T> joined{box, 20, 40};
+    const double metres_per_unit = 0.5;
+    const auto q = anima::measure_transition(joined, anima::joint_roles(sk), anima::signed_axis{}, metres_per_unit);
+    // Central differences: 1 unit a frame at both ends (60 units/s), a quarter
+    // of it inside the slow stretch; in metres.
+    const T tol = std::is_same_v<T, float> ? T(1e-4) : T(1e-12);
+    CHECK(std::abs(q.root_speed_ends - T(30)) <= tol * T(30));
+    CHECK(std::abs(q.root_speed_min - T(7.5)) <= tol * T(30));
+    CHECK(std::abs(q.root_speed_ratio - T(0.25)) <= tol);
+    // Standing still: no ratio.
+    anima::clip<T> still(sk, 60, T(1) / T(60));
+    const auto s = anima::measure_transition(anima::joined_clip<T>{still, 20, 40}, anima::joint_roles(sk),
+                                             anima::signed_axis{}, metres_per_unit);
+    CHECK(s.root_speed_ends == T(0));
+    CHECK(s.root_speed_ratio == T(0));
+}
+
 TEST_CASE("measure_transition: the variable-timing transition is smoother than a direct cut") {
     const auto measure = [](const clipd& a, std::size_t trigger, const clipd& b, std::size_t b_start) {
         const auto roles = anima::joint_roles(a.skeleton());
@@ -1882,8 +1915,15 @@ TEST_CASE_TEMPLATE("plant_transition_feet: with a speed band a run into a run ke
     anima::transition_feet_params<T> p;
     CAPTURE(slower_end);
     CHECK(slowest(p) < 0.3 * slower_end);  // the stall, by default (no band)
+    const auto roles = anima::joint_roles(a.skeleton());
+    const auto stall = [&] {
+        return anima::measure_transition(anima::plant_transition_feet(joined, p), roles, anima::signed_axis{}, 1.0)
+            .root_speed_ratio;
+    };
+    CHECK(stall() < T(0.3));  // measure_transition sees it too
     p.root_speed_band = T(0.75);
     CHECK(slowest(p) >= 0.75 * slower_end * (1 - 1e-4));
+    CHECK(stall() >= T(0.7));
     p.root_speed_band = T(1.5);
     CHECK(thrown_message([&] { (void)anima::plant_transition_feet(joined, p); }).find("root_speed_band") !=
           std::string::npos);

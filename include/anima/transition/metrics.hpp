@@ -37,6 +37,12 @@ struct transition_quality {
     /// joined clip (the clips' own), and their ratio (0 when either has no
     /// contact, or the figure no feet).
     T foot_skate_window = 0, foot_skate_clips = 0, foot_skate_ratio = 0;
+    /// The root's ground speed (m/s, the up component left out): the slowest
+    /// over the transition's frames, the slower of its first and last
+    /// frame's, and their ratio (0 when the ends stand still). A ratio well
+    /// under 1 is a stall: a runner slowing mid-stride, as following planted
+    /// feet can (transition_feet_params::root_speed_band bounds it).
+    T root_speed_min = 0, root_speed_ends = 0, root_speed_ratio = 0;
 };
 
 /// Measures a joined clip over its transition plus `margin` frames on each
@@ -79,6 +85,16 @@ transition_quality<T> measure_transition(const joined_clip<T>& joined, const std
     const auto V = time_derivative(P, dt);
     const auto A = time_derivative(V.leftCols(3).eval(), dt);
     q.peak_root_acceleration = A.rowwise().norm().maxCoeff() * m;
+    const auto ground_speed = [&](std::size_t f) {
+        Eigen::Matrix<T, 3, 1> v = V.row(static_cast<Eigen::Index>(f - first)).template head<3>().transpose();
+        v[static_cast<int>(up.axis)] = T(0);
+        return v.norm() * m;
+    };
+    q.root_speed_ends = std::min(ground_speed(joined.start_frame), ground_speed(joined.end_frame));
+    q.root_speed_min = q.root_speed_ends;
+    for (std::size_t f = joined.start_frame + 1; f < joined.end_frame; ++f)
+        q.root_speed_min = std::min(q.root_speed_min, ground_speed(f));
+    q.root_speed_ratio = q.root_speed_ends > T(0) ? q.root_speed_min / q.root_speed_ends : T(0);
 
     std::vector<std::size_t> feet;
     for (std::size_t j = 0; j < roles.size(); ++j)
