@@ -1,7 +1,8 @@
 // Compares the variable-timing transition with a direct cut, a crossfade and
 // inertialization on real clip pairs: transition length, peak joint angular
 // acceleration and jerk, peak root acceleration, foot slide and foot skate
-// (the window's, and against the clips' own), each method also with its feet planted
+// (the window's, and against the clips' own), the root's slowest ground speed
+// in the window against its ends', each method also with its feet planted
 // (plant_transition_feet: by the legs alone, and with the root's path taken
 // from the feet first, the default), and the clips' own 99th percentile of root
 // acceleration (after their rest-pose lead-in), as a Markdown
@@ -150,15 +151,15 @@ void evaluate_pair(const std::string& dir, const pair_spec& p, const std::string
         runs.push_back({runs[i].name + ", feet planted, legs only", anima::plant_transition_feet(runs[i].joined, legs_only)});
     for (std::size_t i = 0; i < methods; ++i)
         runs.push_back({runs[i].name + ", feet planted", anima::plant_transition_feet(runs[i].joined)});
-    std::printf("| %s | the clips themselves: 99th percentile | | | | %.1f | | | |\n", p.label,
+    std::printf("| %s | the clips themselves: 99th percentile | | | | %.1f | | | | |\n", p.label,
                 std::max(root_acceleration_p99(a, mpu), root_acceleration_p99(b, mpu)));
     for (const auto& r : runs) {
         const auto q = anima::measure_transition(r.joined, roles, up, mpu);
-        std::printf("| %s (%s → %s) | %s | %.3f | %.0f | %.3g | %.1f | %.2f | %.3f | %.2f× |\n", p.label,
+        std::printf("| %s (%s → %s) | %s | %.3f | %.0f | %.3g | %.1f | %.2f | %.3f | %.2f× | %.2f |\n", p.label,
                     std::string(anima::to_string(t.class_a.type)).c_str(),
                     std::string(anima::to_string(t.class_b.type)).c_str(), r.name.c_str(), q.length,
                     q.peak_angular_acceleration, q.peak_angular_jerk, q.peak_root_acceleration, q.foot_slide,
-                    q.foot_skate_window, q.foot_skate_ratio);
+                    q.foot_skate_window, q.foot_skate_ratio, q.root_speed_ratio);
     }
     if (plot_to.empty()) return;
     runs.resize(methods);  // the plot shows the methods as they come
@@ -205,8 +206,8 @@ int main(int argc, char** argv) {
         const auto table = [&](const std::vector<pair_spec>& rows, bool plot) {
             std::printf("| pair | method | length (s) | peak ang. acc. (rad/s²) | peak ang. jerk (rad/s³) | "
                         "peak root acc. (m/s²) | foot slide (m/s) | window skate (body heights/s) | "
-                        "skate: window / clips |\n"
-                        "|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+                        "skate: window / clips | root speed: slowest / ends |\n"
+                        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
             for (std::size_t i = 0; i < rows.size(); ++i)
                 evaluate_pair(dir, rows[i], plot && i == 0 && !out_dir.empty() ? out_dir + "/transition_plot.svg" : "");
         };

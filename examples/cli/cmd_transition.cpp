@@ -23,7 +23,7 @@ namespace {
 struct transition_options {
     std::string a, b, output, view, feet_plot, method = "variable", timing = "velocity";
     std::size_t at = 0, to = 0;
-    double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1, root_speed_band = 0;
+    double min_duration = 0.1, max_duration = 1.2, crossfade = 0.3, halflife = 0.1, root_speed_band = anima::transition_feet_params<double>{}.root_speed_band;
     bool json = false, no_plant_feet = false, root_from_feet = true;
 };
 

@@ -1838,6 +1838,7 @@ TEST_CASE("root_from_feet: a foot on the ground stays put, heights and the motio
     clipd out = c;
     anima::transition_feet_params<double> params;
     params.planting.contacts = cp;
+    params.root_speed_band = 0;  // the feet alone: the band would keep the recorded root's speed
     const anima::frame_interval window{30, 90};
     anima::detail::root_from_feet(out, window, contacts, params, std::numeric_limits<double>::infinity());
     // Past the ramps (0.05 s = 6 frames, at most 1/8 of the window) the
@@ -1913,14 +1914,18 @@ TEST_CASE_TEMPLATE("plant_transition_feet: with a speed band a run into a run ke
         return least;
     };
     anima::transition_feet_params<T> p;
+    CHECK(p.root_speed_band == T(0.5));  // the default
+    p.root_speed_band = T(0);
     CAPTURE(slower_end);
-    CHECK(slowest(p) < 0.3 * slower_end);  // the stall, by default (no band)
+    CHECK(slowest(p) < 0.3 * slower_end);  // the stall, without a band
     const auto roles = anima::joint_roles(a.skeleton());
     const auto stall = [&] {
         return anima::measure_transition(anima::plant_transition_feet(joined, p), roles, anima::signed_axis{}, 1.0)
             .root_speed_ratio;
     };
     CHECK(stall() < T(0.3));  // measure_transition sees it too
+    p.root_speed_band = T(0.5);
+    CHECK(slowest(p) >= 0.5 * slower_end * (1 - 1e-4));
     p.root_speed_band = T(0.75);
     CHECK(slowest(p) >= 0.75 * slower_end * (1 - 1e-4));
     CHECK(stall() >= T(0.7));
@@ -1955,6 +1960,7 @@ TEST_CASE("root_from_feet: a swing skimming the floor beside a planted foot drag
     }
     anima::transition_feet_params<double> params;
     params.planting.contacts.feet = {"LeftFoot", "RightFoot"};
+    params.root_speed_band = 0;  // the feet's weights alone, as worked out below
     const auto contacts = anima::find_contacts(c, params.planting.contacts);
     REQUIRE(contacts.feet.size() == 2);
     for (std::size_t f = 10; f < 110; ++f) REQUIRE((contacts.feet[0].in_contact[f] && contacts.feet[1].in_contact[f]));

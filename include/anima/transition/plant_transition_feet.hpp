@@ -54,13 +54,14 @@ struct transition_feet_params {
     /// way A's last step and B's first both travel (when within 60 degrees
     /// of each other) at least band x the slower end's speed, and overall at
     /// most the faster end's / band; the legs' IK takes the rest. The blended
-    /// legs step slower than a runner moves, and the feet alone can stall it
-    /// mid-stride: a run into a run (run_cmu_09_01 at 60 into run_cmu_02_03
-    /// at 10) falls from 224 to 54 units/s for 40 ms, 168 with a band of
-    /// 0.75. The price is skate: on run_cmu_02_03 into a walk the planted
-    /// window's skate rises from 0.14x to 1.61x the clips' own
-    /// (docs/transitions.md). 0, the default: no band, the feet first.
-    T root_speed_band = T(0);
+    /// legs step slower than a runner moves, and the feet alone stall it
+    /// mid-stride: without a band the root's slowest speed in the window was
+    /// 0.08-0.2 of the slower end's on runs and walks into runs and walks
+    /// (measure_transition's root_speed_ratio). The default, 0.5 (chosen on
+    /// the evaluation's tuning pairs, docs/transitions.md), keeps it about
+    /// half; the price is skate where the legs cannot keep up (run_cmu_02_03
+    /// into a walk: 0.14x to 1.49x the clips' own). 0: no band, the feet first.
+    T root_speed_band = T(0.5);
 };
 
 namespace detail {
