@@ -442,6 +442,33 @@ TEST_CASE_TEMPLATE("goals from GLM vectors are the goals from Eigen vectors, and
     CHECK(from_glm.q == from_eigen.q);
 }
 
+TEST_CASE_TEMPLATE("Levenberg-Marquardt IK meets a reachable target whatever the bones' length", T, double, float) {
+    // Its damping is relative to J'J's diagonal, which grows as the bones
+    // squared: scaled by it twice, a chain of 1e5-unit bones never left its
+    // start ("unreachable" at 2.5 bone lengths) while the others met it.
+    const std::vector<channel> rot{channel::z_rotation, channel::x_rotation, channel::y_rotation};
+    for (const double length : {1.0, 1e3, 1e5}) {
+        CAPTURE(length);
+        const T bone = static_cast<T>(length);
+        skeleton<T> sk;
+        sk.add_joint("root", -1, vec3<T>::Zero(), rot);
+        sk.add_joint("a", 0, vec3<T>(T(0), bone, T(0)), rot);
+        sk.add_joint("b", 1, vec3<T>(T(0), bone, T(0)), rot);
+        sk.add_joint("c", 2, vec3<T>(T(0), bone, T(0)));
+        const kinematic_tree<T> tree(sk);
+        ik_vector<T> aim(tree.dofs());
+        for (int i = 0; i < tree.dofs(); ++i) aim[i] = T(0.3) * static_cast<T>(i % 3 - 1) + T(0.1);
+        ik_state<T> s;
+        tree.forward(aim, s);
+        ik_params<T> p;
+        p.tolerance = T(1e-4) * bone;
+        const auto r = solve_ik_with<T>(ik_solver::levenberg_marquardt, tree, {position_goal<T>(3, s.positions[3])},
+                                        ik_vector<T>::Zero(tree.dofs()), p);
+        CHECK(r.converged());
+        CHECK(r.max_position_error <= p.tolerance);
+    }
+}
+
 TEST_CASE_TEMPLATE("CCD with orientation, pose and aim goals on the CMU arm", T, double, float) {
     const auto walk = read_bvh<T>(bundled("walk_cmu31_02_01.bvh"));
     const auto arm = anima_ik_test::cmu_left_arm(walk);

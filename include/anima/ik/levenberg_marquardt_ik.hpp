@@ -33,7 +33,7 @@ namespace anima {
 template <class T>
 struct levenberg_marquardt_ik_params {
     ik_params<T> ik;                  ///< tolerances, iterations (per attempt), restarts, limits
-    T initial_damping = T(1e-3);      ///< relative to the largest diagonal entry of J'J
+    T initial_damping = T(1e-3);      ///< mu of (J'J + mu diag(J'J)) h = J'r at the start (no units)
     /// false (default): attempts run on the sine reparametrisation, and one
     /// that misses is polished by up to `polish_iterations` steps with the
     /// limits inside the step. true: the attempts themselves keep the limits
@@ -158,7 +158,9 @@ optimize_result<T> lm_attempt(const kinematic_tree<T>& tree, const std::vector<i
         w.g.noalias() = w.jac.transpose() * w.r;
     };
     linearise();
-    T mu = prm.initial_damping * std::max(w.normal.diagonal().maxCoeff(), tiny);
+    // The step scales mu by J'J's diagonal already: mu itself has no units,
+    // so a figure in millimetres starts as damped as one in metres.
+    T mu = prm.initial_damping;
     T growth = T(2);
     T window_start = res.value;
     int window = 0;

@@ -9,9 +9,11 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <string>
 
 #include <Eigen/Cholesky>
 
+#include <anima/core/check_argument.hpp>
 #include <anima/optimize/result.hpp>
 
 namespace anima {
@@ -26,7 +28,10 @@ struct levenberg_marquardt_params {
     /// Stop when a step lowers the objective by less than value_tolerance
     /// times the objective.
     T value_tolerance = detail::default_value_tolerance<T>();
-    /// Starting damping, relative to the largest diagonal entry of J'J.
+    /// Starting damping mu of the step (J'J + mu D) h = -J'r: with D the
+    /// diagonal of J'J, mu itself (no units); with D = I, relative to the
+    /// largest diagonal entry of J'J. Either way the first step is the same
+    /// whatever the residuals' scale.
     T initial_damping = T(1e-3);
     /// Marquardt's scaling: damp each variable by its own diagonal entry of
     /// J'J (invariant to the variables' units) instead of the identity.
@@ -40,7 +45,8 @@ struct levenberg_marquardt_params {
 /// vector_x<T>& residuals, matrix_x<T>* jacobian) writes the residuals
 /// (resizing them) and, when `jacobian` is not null, the m x n Jacobian.
 /// Throws invalid_argument for an empty or non-finite x0, anima::error if
-/// the residuals or Jacobian are not finite at x0 or change size.
+/// the residuals or Jacobian are not finite at x0 or change size, or if
+/// |r|^2, J'J or J'r overflow there (scale the residuals down).
 template <class T, class R>
 optimize_result<T> levenberg_marquardt(R&& r, vector_x<T> x0, const levenberg_marquardt_params<T>& params = {}) {
     detail::check_start(x0, "anima::levenberg_marquardt");
@@ -70,8 +76,17 @@ optimize_result<T> levenberg_marquardt(R&& r, vector_x<T> x0, const levenberg_ma
 
     matrix_x<T> normal = jacobian.transpose() * jacobian;
     vector_x<T> gradient = jacobian.transpose() * residuals;
+    // Finite residuals whose square overflows would make every test below
+    // compare infinities: "converged" at the start, the value inf.
+    if (!std::isfinite(result.value) || !normal.allFinite() || !gradient.allFinite())
+        throw error("levenberg_marquardt: |r|^2, J'J or J'r overflow at the start point (|r|^2 / 2 = " +
+                    detail::argument_text(result.value) + "): scale the residuals down");
     const T tiny = std::numeric_limits<T>::min() / std::numeric_limits<T>::epsilon();
-    T damping = params.initial_damping * std::max(normal.diagonal().maxCoeff(), tiny);
+    // Scaled by the diagonal, mu D already carries J'J's units: mu starts
+    // as given. (Scaled twice, it grew as |J|^4 and the first steps of a
+    // problem in large units were too short to leave the start.)
+    T damping = params.scale_by_diagonal ? params.initial_damping
+                                         : params.initial_damping * std::max(normal.diagonal().maxCoeff(), tiny);
     T growth = T(2);
 
     vector_x<T> trial_x(n), trial_residuals;
