@@ -15,6 +15,7 @@
 #include <glm/ext/quaternion_float.hpp>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <type_traits>
 #include <vector>
@@ -63,6 +64,35 @@ TEST_CASE_TEMPLATE("natural cubic spline: interpolation, C2 knots, natural ends,
                    "increase strictly"));
     CHECK(contains(invalid_argument_message([&] { anima::cubic_spline<T>({T(0)}, dmatrix<T>::Zero(1, 1)); }),
                    "at least 2"));
+}
+
+TEST_CASE_TEMPLATE("cubic spline: keys a hair apart whose curvatures overflow are refused, naming the interval", T,
+                   float, double) {
+    // Curvatures go as 1 / h^2: 1e-20 s overflows float, 1e-160 s double.
+    const T h = static_cast<T>(std::is_same_v<T, float> ? 1e-20 : 1e-160);
+    dmatrix<T> y(4, 1);
+    y << T(0), T(1), T(0), T(1);
+    CHECK(contains(invalid_argument_message([&] { anima::cubic_spline<T>({T(0), h, T(2) * h, T(3) * h}, y); }),
+                   "the spline's derivatives are not finite in this precision (shortest key interval " +
+                       anima::detail::argument_text(h) + " s)"));
+    // Two keys: the slope alone overflows.
+    const T big = std::numeric_limits<T>::max() / T(2);
+    dmatrix<T> steep(2, 1);
+    steep << -big, big;
+    CHECK(contains(invalid_argument_message([&] { anima::cubic_spline<T>({T(0), T(0.5)}, steep); }),
+                   "shortest key interval 0.5 s"));
+    dmatrix<T> bad = y;
+    bad(2, 0) = std::numeric_limits<T>::quiet_NaN();
+    CHECK(contains(invalid_argument_message([&] { anima::cubic_spline<T>({T(0), T(1), T(2), T(3)}, bad); }),
+                   "value (2, 0) must be finite, got nan"));
+    // A wider spacing in the same precision still interpolates.
+    const T wide = static_cast<T>(std::is_same_v<T, float> ? 1e-13 : 1e-150);
+    const anima::cubic_spline<T> s({T(0), wide, T(2) * wide, T(3) * wide}, y);
+    typename anima::cubic_spline<T>::row v, d1, d2;
+    s.evaluate(T(1.5) * wide, v, d1, d2);
+    CHECK(v.allFinite());
+    CHECK(d1.allFinite());
+    CHECK(d2.allFinite());
 }
 
 // Angular velocity w (parent frame) from rotations at t +- h: dR/dt R^T = [w]x.

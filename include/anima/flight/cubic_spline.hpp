@@ -3,11 +3,14 @@
 // on the scalar so key times and values may carry derivatives (AutoDiff).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/scalar_value.hpp>
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <utility>
@@ -24,7 +27,8 @@ public:
     cubic_spline() = default;
 
     /// times: n >= 2 strictly increasing; values: n rows, one column per
-    /// component. Throws anima::invalid_argument otherwise.
+    /// component, all finite. Throws anima::invalid_argument otherwise, and
+    /// when keys so close together overflow the slopes or curvatures.
     cubic_spline(std::vector<S> times, matrix values) : t_(std::move(times)), y_(std::move(values)) {
         const std::size_t n = t_.size();
         if (n < 2) throw invalid_argument("anima::cubic_spline: needs at least 2 keys, got " + std::to_string(n));
@@ -40,7 +44,10 @@ public:
         // Thomas algorithm on the interior second derivatives (natural ends).
         const Eigen::Index d = y_.cols();
         m_ = matrix::Zero(static_cast<Eigen::Index>(n), d);
-        if (n == 2) return;
+        if (n == 2) {
+            check_finite_derivatives();
+            return;
+        }
         std::vector<S> diag(n), upper(n);
         matrix rhs(static_cast<Eigen::Index>(n), d);
         for (std::size_t i = 1; i + 1 < n; ++i) {
@@ -61,6 +68,7 @@ public:
             if (i + 2 < n) r -= upper[i] * m_.row(I + 1);
             m_.row(I) = r / diag[i];
         }
+        check_finite_derivatives();
     }
 
     std::size_t keys() const noexcept { return t_.size(); }
@@ -93,6 +101,32 @@ public:
     }
 
 private:
+    // Slopes grow as 1 / h and curvatures as 1 / h^2: keys a hair apart
+    // overflow them (float at 1e-20 s, double at 1e-160 s), and evaluate()
+    // would return NaN.
+    void check_finite_derivatives() const {
+        using R = detail::real_scalar_t<S>;
+        const auto finite = [](const S& x) { return std::isfinite(detail::scalar_value(x)); };
+        for (Eigen::Index i = 0; i < y_.rows(); ++i)
+            for (Eigen::Index c = 0; c < y_.cols(); ++c)
+                if (!finite(y_(i, c)))
+                    throw invalid_argument("anima::cubic_spline: value (" + std::to_string(i) + ", " + std::to_string(c) +
+                                           ") must be finite, got " + detail::argument_text(detail::scalar_value(y_(i, c))));
+        bool ok = true;
+        for (Eigen::Index i = 0; ok && i < m_.size(); ++i) ok = finite(m_.data()[i]);
+        for (Eigen::Index i = 0; ok && i + 1 < y_.rows(); ++i)
+            for (Eigen::Index c = 0; ok && c < y_.cols(); ++c) {
+                const auto k = static_cast<std::size_t>(i);
+                ok = finite((y_(i + 1, c) - y_(i, c)) / (t_[k + 1] - t_[k]));
+            }
+        if (ok) return;
+        R shortest = static_cast<R>(detail::scalar_value(t_[1] - t_[0]));
+        for (std::size_t k = 2; k < t_.size(); ++k)
+            shortest = std::min(shortest, static_cast<R>(detail::scalar_value(t_[k] - t_[k - 1])));
+        throw invalid_argument("anima::cubic_spline: the spline's derivatives are not finite in this precision "
+                               "(shortest key interval " + detail::argument_text(shortest) + " s)");
+    }
+
     std::vector<S> t_;
     matrix y_;
     matrix m_;
