@@ -11,7 +11,10 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <sstream>
+#include <type_traits>
 
 using namespace anima;
 using anima_test::bundled;
@@ -171,6 +174,38 @@ TEST_CASE_TEMPLATE("learned inverse: the pose comes from the goal, blended over 
     sp.blend = 0;
     CHECK(anima_test::contains(
         anima_test::invalid_argument_message([&] { (void)solve_ik_learned(w.tree, model, w.goals_of(5), sp); }), "blend"));
+}
+
+TEST_CASE_TEMPLATE("learned inverse: a target whose squared distances overflow is refused, not blended into NaN", T,
+                   double, float) {
+    walk_setup<T> w;
+    learned_ik_params<T> prm;
+    prm.rows = prm.cols = 3;
+    prm.epochs = 4;
+    const auto model = learned_ik_model<T>::train(w.tree, w.effectors, w.training, prm);
+    const auto rows = model.centre_effectors().rows();
+    // Finite, but its squares are not: 1e20 in float, 1e160 in double.
+    const T far = static_cast<T>(std::is_same_v<T, float> ? 1e20 : 1e160);
+    const ik_vector<T> target = ik_vector<T>::Constant(rows, far);
+    CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)model.nearest_to_goal(target, 3); }),
+                               "anima::learned_ik_model::nearest_to_goal: target too far out (largest coordinate " +
+                                   anima::detail::argument_text(far) + ")"));
+    // A blend built elsewhere does not turn the far target into NaN either.
+    const ik_vector<T> near = ik_vector<T>::Constant(rows, T(1e3));
+    const auto b = model.nearest_to_goal(near, 3);
+    const ik_vector<T> overflowing = ik_vector<T>::Constant(rows, std::numeric_limits<T>::max());
+    CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)model.predict(overflowing, b); }),
+                               "anima::learned_ik_model::predict: target too far out"));
+    // The largest target solve_ik_learned accepts still blends finitely.
+    const T largest = static_cast<T>(std::is_same_v<T, float> ? 1e18 : 1e150);
+    const auto fb = model.nearest_to_goal(ik_vector<T>::Constant(rows, largest), 3);
+    for (const T wt : fb.weights) CHECK(std::isfinite(wt));
+    CHECK(model.predict(ik_vector<T>::Constant(rows, largest), fb).allFinite());
+    // Clusters at the floor (a duplicated target) keep weights that sum to one.
+    const auto on = model.nearest_to_goal(model.centre_effectors().col(0), 9);
+    T sum = T(0);
+    for (const T wt : on.weights) sum += wt;
+    CHECK(sum == doctest::Approx(1.0).epsilon(1e-5));
 }
 
 TEST_CASE_TEMPLATE("learned model: save and load round trip, file errors with line numbers", T, double, float) {

@@ -96,11 +96,15 @@ public:
     /// (effector positions in the root frame, stacked as effectors_of
     /// returns them), weighted by inverse squared distance.
     blend nearest_to_goal(const ik_vector<T>& target, int count) const {
+        const char* who = "anima::learned_ik_model::nearest_to_goal";
         if (target.size() != centre_effectors_.rows() || !target.allFinite() || count < 1 || !clusters())
-            throw invalid_argument("anima::learned_ik_model::nearest_to_goal: target of " +
-                                   std::to_string(target.size()) + " values for " + std::to_string(centre_effectors_.rows()) +
-                                   " (or non-finite), count " + std::to_string(count) + " (must be >= 1)");
+            throw invalid_argument(std::string(who) + ": target of " + std::to_string(target.size()) + " values for " +
+                                   std::to_string(centre_effectors_.rows()) + " (or non-finite), count " +
+                                   std::to_string(count) + " (must be >= 1)");
         const ik_vector<T> d2 = (centre_effectors_.colwise() - target).colwise().squaredNorm().transpose();
+        // As solve_ik_learned's goal check: a target whose squared distances
+        // overflow would blend with 0/0 weights into a NaN pose.
+        if (!d2.allFinite()) fail_far_target(who, target);
         std::vector<Eigen::Index> order(static_cast<std::size_t>(d2.size()));
         for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
         const auto n = std::min(order.size(), static_cast<std::size_t>(count));
@@ -110,10 +114,13 @@ public:
         b.clusters.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n));
         // A tiny floor (relative to the farthest blended distance) keeps a
         // target sitting on a reference pose finite: that pose then dominates.
+        // Weights are taken relative to the nearest (at most 1), so that
+        // several at the floor do not overflow their sum.
         const T floor = std::max(d2[b.clusters.back()] * T(1e-12), std::numeric_limits<T>::min());
+        const T nearest = d2[b.clusters.front()] + floor;
         T sum = T(0);
         for (const auto c : b.clusters) {
-            b.weights.push_back(T(1) / (d2[c] + floor));
+            b.weights.push_back(nearest / (d2[c] + floor));
             sum += b.weights.back();
         }
         for (auto& w : b.weights) w /= sum;
@@ -122,16 +129,23 @@ public:
 
     /// The learned pose for a target: sum over the blend of weight x
     /// (centre + J+ (target - centre's effectors)); a cluster without J+
-    /// gives its centre.
+    /// gives its centre. Throws for a target that nearest_to_goal would
+    /// refuse, or when the pose is not finite.
     ik_vector<T> predict(const ik_vector<T>& target, const blend& b) const {
+        const char* who = "anima::learned_ik_model::predict";
+        check_size(who, "target", static_cast<std::size_t>(target.size()),
+                   static_cast<std::size_t>(centre_effectors_.rows()), "values");
+        if (!target.allFinite()) throw invalid_argument(std::string(who) + ": target must be finite");
         ik_vector<T> q = ik_vector<T>::Zero(dofs_);
         for (std::size_t i = 0; i < b.clusters.size(); ++i) {
             const auto c = b.clusters[i];
+            if (!std::isfinite((target - centre_effectors_.col(c)).squaredNorm())) fail_far_target(who, target);
             ik_vector<T> qc = centres_.col(c);
             const auto& inv = inverses_[static_cast<std::size_t>(c)];
             if (inv.size()) qc += inv * (target - centre_effectors_.col(c));
             q += b.weights[i] * qc;
         }
+        if (!q.allFinite()) fail_far_target(who, target);
         return q;
     }
 
@@ -248,6 +262,12 @@ public:
     }
 
 private:
+    [[noreturn]] static void fail_far_target(const char* who, const ik_vector<T>& target) {
+        throw invalid_argument(std::string(who) + ": target too far out (largest coordinate " +
+                               detail::argument_text(target.cwiseAbs().maxCoeff()) +
+                               "): its squared distances to the clusters overflow");
+    }
+
     template <class V>
     static void write_row(std::ostream& out, const char* name, const V& v) {
         out << name;
