@@ -390,6 +390,19 @@ int solve_and_check(const problem<Cap>& p) {
     return peers;
 }
 
+/// Two disjoint paths source -> i -> i + 2 -> sink (i = 0, 1), every
+/// capacity c: a flow of 2c.
+template <class Cap>
+anima::flow_graph<Cap> two_paths(Cap c) {
+    anima::flow_graph<Cap> g(4);
+    for (std::size_t i = 0; i < 2; ++i) {
+        g.add_tweights(i, c, 0);
+        g.add_edge(i, i + 2, c, 0);
+        g.add_tweights(i + 2, 0, c);
+    }
+    return g;
+}
+
 }  // namespace
 
 TEST_CASE_TEMPLATE("random graphs: flow_graph equals Edmonds-Karp (and libmaxflow), the cut is valid and minimal", Cap,
@@ -491,6 +504,34 @@ TEST_CASE("non-dyadic double capacities: the flow matches the reference to round
 #ifdef ANIMA_HAVE_MAXFLOW
         REQUIRE(f == doctest::Approx(libmaxflow_flow(p)).epsilon(1e-12));
 #endif
+    }
+}
+
+TEST_CASE_TEMPLATE("a floating-point flow that overflows throws instead of returning inf", Cap, float, double) {
+    using flow_type = typename anima::flow_graph<Cap>::flow_type;
+    const Cap big = std::numeric_limits<Cap>::max();
+    // Straight through five nodes: float sums in double and fits, double
+    // reaches inf.
+    anima::flow_graph<Cap> g(5);
+    for (std::size_t i = 0; i < 5; ++i) g.add_tweights(i, big, big);
+    anima::grid_flow_graph<Cap> grid(1, 5);
+    for (int c = 0; c < 5; ++c) grid.set_tweights(0, c, big, big);
+    // Two paths of big / 2 + a bit each, through edges.
+    const Cap half = big / Cap(2) + big / Cap(1000);
+    auto h = two_paths(half);
+    if constexpr (std::is_same_v<flow_type, Cap>) {
+        const std::string expected = "overflows the flow type (largest " + anima::detail::argument_text(big) +
+                                     "); the hard constraints may contradict each other, or scale the capacities down";
+        CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)g.maxflow(); }), expected));
+        CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)grid.maxflow(); }), expected));
+        CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)h.maxflow(); }), expected));
+        h.set_tweights(3, 0, big / Cap(4));
+        CHECK(std::isfinite(h.maxflow()));
+    } else {
+        const flow_type five = 5 * static_cast<flow_type>(big);
+        CHECK(g.maxflow() == five);
+        CHECK(grid.maxflow() == five);
+        CHECK(h.maxflow() == 2 * static_cast<flow_type>(half));
     }
 }
 
@@ -602,13 +643,7 @@ TEST_CASE("huge capacities: infinity for hard constraints, flow sums beyond the 
         anima::flow_graph<long long> g(3);
         for (std::size_t i = 0; i < 3; ++i) g.add_tweights(i, big, big);
         CHECK_THROWS_AS(g.maxflow(), anima::invalid_argument);
-        anima::flow_graph<long long> h(4);  // two paths of 2^62 each, through edges
-        h.add_tweights(0, big, 0);
-        h.add_tweights(1, big, 0);
-        h.add_edge(0, 2, big, 0);
-        h.add_edge(1, 3, big, 0);
-        h.add_tweights(2, 0, big);
-        h.add_tweights(3, 0, big);
+        auto h = two_paths(big);  // two paths of 2^62 each, through edges
         CHECK_THROWS_AS(h.maxflow(), anima::invalid_argument);
         h.set_tweights(3, 0, big - 2);
         CHECK(h.maxflow() == std::numeric_limits<long long>::max() - 1);

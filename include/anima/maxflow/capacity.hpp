@@ -12,11 +12,12 @@
 //
 // The flow value is summed in flow_type: long long for integers narrower than
 // long long (so many int-capacity terminal edges cannot overflow the total),
-// double for float, the capacity type itself otherwise. For integer flow
-// types every addition is checked, and a flow that would overflow throws
-// anima::invalid_argument instead of wrapping around.
+// double for float, the capacity type itself otherwise. Every addition is
+// checked: a flow that would overflow throws anima::invalid_argument instead
+// of wrapping around (integers) or becoming inf (double).
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 
 #include <cmath>
@@ -63,16 +64,28 @@ struct capacity_traits {
             return a <= std::numeric_limits<Cap>::max() - b;
     }
 
-    /// flow + amount for amount >= 0; throws instead of overflowing.
+    /// flow + amount for amount >= 0; throws instead of overflowing (an
+    /// integer wrapping around, a floating-point sum becoming inf).
     static flow_type add_flow(flow_type flow, Cap amount) {
-        if constexpr (std::is_integral_v<flow_type>) {
-            if (flow > std::numeric_limits<flow_type>::max() - static_cast<flow_type>(amount))
-                throw invalid_argument(
-                    "max-flow: the flow value overflows the flow type (" +
-                    std::to_string(std::numeric_limits<flow_type>::digits + 1) +
-                    "-bit integers); the hard constraints may contradict each other, or use a wider capacity type");
-        }
+        bool fits;
+        if constexpr (std::is_integral_v<flow_type>)
+            fits = flow <= std::numeric_limits<flow_type>::max() - static_cast<flow_type>(amount);
+        else
+            fits = std::isfinite(flow + static_cast<flow_type>(amount));
+        if (!fits) flow_overflow(flow, amount);
         return flow + static_cast<flow_type>(amount);
+    }
+
+private:
+    [[noreturn]] static void flow_overflow(flow_type flow, Cap amount) {
+        const bool integral = std::is_integral_v<flow_type>;
+        throw invalid_argument(
+            "max-flow: the flow value " + detail::argument_text(flow) + " plus " +
+            detail::argument_text(amount) + " overflows the flow type (" +
+            (integral ? std::to_string(std::numeric_limits<flow_type>::digits + 1) + "-bit integers"
+                      : "largest " + detail::argument_text(std::numeric_limits<flow_type>::max())) +
+            "); the hard constraints may contradict each other, or " +
+            (integral ? "use a wider capacity type" : "scale the capacities down"));
     }
 };
 
