@@ -23,12 +23,14 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace {
 
 using namespace poisson_test;
 using anima::boundary;
+using anima_test::tolerance;
 using grid = anima::poisson_grid<double>;
 using mg_params = anima::multigrid_poisson<double>::params;
 
@@ -601,4 +603,31 @@ TEST_CASE("zero right-hand side and data give zero") {
     CHECK(r.iterations == 0);
     CHECK(r.relative_residual == 0);
     CHECK(r.u.isZero(0));
+}
+
+TEST_CASE_TEMPLATE("tiny and huge right-hand sides are solved and measured without their squares under- or overflowing",
+                   T, float, double) {
+    using mat = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const bool is_float = std::is_same_v<T, float>;
+    // Squared, 1e-25 underflows float and 1e-170 double; 64 x (1e30)^2
+    // overflows float and 64 x (1e300)^2 double.
+    for (const double value : {is_float ? 1e-25 : 1e-170, is_float ? 1e30 : 1e300}) {
+        CAPTURE(value);
+        const auto g = anima::make_poisson_grid<T>(8, 8, boundary::dirichlet, T(1));
+        const auto p = anima::make_poisson_problem(g, mat(mat::Constant(8, 8, static_cast<T>(value))));
+        const auto dst = anima::solve_poisson_dst(p);
+        const T peak = dst.u.cwiseAbs().maxCoeff();
+        CHECK(peak == doctest::Approx(5.7869 * value).epsilon(1e-4));
+        CHECK(std::isfinite(dst.relative_residual));
+        CHECK(dst.relative_residual < tolerance<T>(1e-12, 1e-5));
+        const T measured = anima::relative_residual(p, dst.u);
+        CHECK(std::isfinite(measured));
+        CHECK(measured < tolerance<T>(1e-12, 1e-5));
+        anima::multigrid_poisson<T> mg(g);
+        const auto r = mg.solve(p);
+        CHECK(r.converged);
+        CHECK(r.iterations > 0);
+        CHECK(r.relative_residual <= tolerance<T>(1e-6, 1e-5));
+        CHECK((r.u - dst.u).cwiseAbs().maxCoeff() <= tolerance<T>(1e-5, 1e-3) * peak);
+    }
 }

@@ -258,14 +258,20 @@ poisson_result<T> multigrid_poisson<T>::run(const poisson_problem<T>& p, const m
     level& f = levels_.front();
     std::fill(f.u.begin(), f.u.end(), T(0));
     std::fill(f.b.begin(), f.b.end(), T(0));
+    // The cycles run on b and u scaled by 2^-e, b's largest entry in
+    // [0.5, 1): the system is linear and the scaling exact, and the squared
+    // norms neither underflow (a float b of 1e-25 read as zero) nor overflow.
+    int e = 0;
+    if (folded.b.size()) std::frexp(folded.b.cwiseAbs().maxCoeff(), &e);
     for (index j = 0; j < f.nx; ++j)
         for (index i = 0; i < f.ny; ++i) {
             const auto k = at(f.at2(i, j));
             if (!grid_.unknown(i, j)) continue;
-            f.b[k] = folded.b(i, j);
-            if (guess) f.u[k] = (*guess)(i, j);
+            f.b[k] = std::ldexp(folded.b(i, j), -e);
+            if (guess) f.u[k] = std::ldexp((*guess)(i, j), -e);
         }
-    const T bnorm = folded.b.norm();
+    using column = Eigen::Matrix<T, Eigen::Dynamic, 1>;
+    const T bnorm = Eigen::Map<const column>(f.b.data(), static_cast<index>(f.b.size())).norm();
     if (bnorm > T(0) && grid_.unknowns() > 0) {
         T r = T(0);
         if (levels_.size() == 1) {
@@ -301,14 +307,16 @@ poisson_result<T> multigrid_poisson<T>::run(const poisson_problem<T>& p, const m
     }
     res.converged = res.relative_residual <= prm_.tolerance;
     res.u = p.fixed.size() ? p.fixed : matrix::Zero(grid_.rows, grid_.cols);
-    T sum = T(0);
+    T sum = T(0);  // of the scaled values, which cannot overflow
     for (index j = 0; j < f.nx; ++j)
         for (index i = 0; i < f.ny; ++i)
             if (grid_.unknown(i, j)) {
-                res.u(i, j) = f.u[at(f.at2(i, j))];
-                sum += res.u(i, j);
+                res.u(i, j) = std::ldexp(f.u[at(f.at2(i, j))], e);
+                sum += f.u[at(f.at2(i, j))];
             }
-    if (grid_.singular()) res.u.array() -= sum / static_cast<T>(grid_.cells());
+    if (grid_.singular()) res.u.array() -= std::ldexp(sum / static_cast<T>(grid_.cells()), e);
+    if (!res.u.allFinite())
+        throw error(who + ": the solution is not finite (the right-hand side is too large for the scalar type)");
     return res;
 }
 
