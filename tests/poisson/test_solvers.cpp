@@ -631,3 +631,27 @@ TEST_CASE_TEMPLATE("tiny and huge right-hand sides are solved and measured witho
         CHECK((r.u - dst.u).cwiseAbs().maxCoeff() <= tolerance<T>(1e-5, 1e-3) * peak);
     }
 }
+
+TEST_CASE_TEMPLATE("a spacing whose 1 / h^2 overflows or vanishes is refused, naming it", T, float, double) {
+    using mat = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const bool is_float = std::is_same_v<T, float>;
+    const mat ones = mat::Ones(8, 8);
+    for (const double h : {is_float ? 1e-20 : 1e-160, is_float ? 1e25 : 1e160}) {
+        CAPTURE(h);
+        const auto g = anima::make_poisson_grid<T>(8, 8, boundary::dirichlet, static_cast<T>(h));
+        const std::string named =
+            "grid spacing hy = " + anima::detail::argument_text(static_cast<T>(h)) + " has 1 / hy^2 = ";
+        CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)anima::laplacian(g, ones); }),
+                                   "anima::laplacian: " + named));
+        const auto dst = [&] { (void)anima::solve_poisson_dst(anima::make_poisson_problem(g, ones)); };
+        CHECK(anima_test::contains(anima_test::invalid_argument_message(dst),
+                                   "not finite and non-zero in this precision"));
+        const auto mg = [&] { anima::multigrid_poisson<T>{g}; };
+        CHECK(anima_test::contains(anima_test::invalid_argument_message(mg), named));
+    }
+    // The spacings either side of those still give a finite, non-zero Laplacian.
+    const T fine = static_cast<T>(is_float ? 1e-15 : 1e-150);
+    const auto lap = anima::laplacian(anima::make_poisson_grid<T>(8, 8, boundary::dirichlet, fine), ones);
+    CHECK(lap.allFinite());
+    CHECK(lap.cwiseAbs().maxCoeff() > T(0));
+}

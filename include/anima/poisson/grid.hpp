@@ -100,6 +100,17 @@ void check_poisson_grid(const poisson_grid<T>& g, const std::string& who) {
         throw invalid_argument(who + ": grid spacings must be positive and finite, got hy = " +
                                detail::argument_text(g.hy) + ", hx = " +
                                detail::argument_text(g.hx));
+    // The operator's coefficients are 1 / h^2: h = 1e-20 in float overflows
+    // them (the Laplacian came back NaN), h = 1e25 underflows them to 0.
+    const auto check_inverse_square = [&](const char* name, T h) {
+        const T c = T(1) / (h * h);
+        if (!(c > T(0)) || !std::isfinite(c))
+            throw invalid_argument(who + ": grid spacing " + name + " = " + detail::argument_text(h) +
+                                   " has 1 / " + name + "^2 = " + detail::argument_text(c) +
+                                   ", not finite and non-zero in this precision");
+    };
+    check_inverse_square("hy", g.hy);
+    check_inverse_square("hx", g.hx);
     if (g.masked() && (g.mask.rows() != g.rows || g.mask.cols() != g.cols))
         throw invalid_argument(who + ": the mask is " + std::to_string(g.mask.rows()) + " x " +
                                std::to_string(g.mask.cols()) + ", the grid " + std::to_string(g.rows) + " x " +
