@@ -16,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -295,3 +296,31 @@ TEST_CASE_TEMPLATE("svr: bad options are refused, fits are deterministic, save/l
 }
 
 }  // namespace
+
+TEST_CASE_TEMPLATE("svr and mlp: outputs whose squares overflow are standardised and predicted finitely", T, float,
+                   double) {
+    anima::random_source rng(45);
+    const matrix<T> x = random_matrix<T>(rng, 12, 3);
+    const matrix<T> unit = random_matrix<T>(rng, 12, 2);
+    // Squared deviations of 1e19 overflow float, of 1e155 double.
+    const T big = static_cast<T>(std::is_same_v<T, float> ? 1e19 : 1e155);
+    const matrix<T> y = unit * big;
+    for (const auto kind : {anima::regressor_kind::svr, anima::regressor_kind::mlp}) {
+        CAPTURE(anima::to_string(kind));
+        auto scaled = anima::make_regressor<T>(kind);
+        scaled->fit(x, y);
+        const matrix<T> p = scaled->predict(x);
+        REQUIRE(p.allFinite());
+        // Standardisation makes the fit scale-free: as the one on unit outputs, times big.
+        auto plain = anima::make_regressor<T>(kind);
+        plain->fit(x, unit);
+        CHECK(relative_difference<T>(matrix<T>(p / big), plain->predict(x)) < 1e-2);
+        // A column of the type's largest values but one at the other end:
+        // its mean is near the largest, and centring the odd one overflows.
+        matrix<T> wide = x;
+        wide.col(1).setConstant(std::numeric_limits<T>::max());
+        wide(0, 1) = -std::numeric_limits<T>::max();
+        CHECK(contains(invalid_argument_message([&] { scaled->fit(wide, y); }),
+                       "fit: inputs column 1 spans more than the scalar type holds once centred"));
+    }
+}

@@ -57,15 +57,16 @@ public:
     regressor_kind kind() const override { return regressor_kind::mlp; }
 
     void fit(const matrix& inputs, const matrix& outputs) override {
-        this->check_fit("anima::mlp_regressor::fit", inputs, outputs);
+        const std::string who = "anima::mlp_regressor::fit";
+        this->check_fit(who.c_str(), inputs, outputs);
         auto in_scale = detail::regress_standardizer<T>::fit(inputs);
         auto out_scale = detail::regress_standardizer<T>::fit(outputs);
         std::vector<int> sizes{static_cast<int>(inputs.cols())};
         sizes.insert(sizes.end(), params_.hidden.begin(), params_.hidden.end());
         sizes.push_back(static_cast<int>(outputs.cols()));
         detail::mlp_network<T> net = detail::mlp_network<T>::initial(sizes, params_.seed);
-        detail::mlp_objective<T> objective(net, in_scale.apply(inputs), out_scale.apply(outputs),
-                                           params_.weight_decay);
+        detail::mlp_objective<T> objective(net, in_scale.apply_checked(inputs, who, "inputs"),
+                                           out_scale.apply_checked(outputs, who, "outputs"), params_.weight_decay);
 
         bfgs_params<T> solver;
         solver.max_iterations = params_.max_iterations;
@@ -77,6 +78,7 @@ public:
             };
         }
         const optimize_result<T> result = bfgs_minimize(objective, net.pack(), solver);
+        if (!result.x.allFinite()) throw error(who + ": the trained weights are not finite in this precision");
         net.unpack(result.x);
 
         network_ = std::move(net);
@@ -90,7 +92,8 @@ public:
 
     matrix predict(const matrix& inputs) const override {
         this->check_predict("anima::mlp_regressor::predict", inputs);
-        return output_scale_.invert(network_.evaluate(input_scale_.apply(inputs)));
+        return this->finite_prediction("anima::mlp_regressor::predict",
+                                       output_scale_.invert(network_.evaluate(input_scale_.apply(inputs))));
     }
 
     void save(std::ostream& out) const override {

@@ -141,6 +141,17 @@ protected:
         check_finite(f, "inputs", inputs);
     }
 
+    /// A prediction, refused when it is not finite (inputs far outside the
+    /// training data, outputs near the scalar type's limit).
+    static matrix finite_prediction(const char* function, matrix predicted) {
+        for (Eigen::Index c = 0; c < predicted.cols(); ++c)
+            for (Eigen::Index r = 0; r < predicted.rows(); ++r)
+                if (!std::isfinite(static_cast<double>(predicted(r, c))))
+                    throw error(std::string(function) + ": the prediction (" + std::to_string(r) + ", " +
+                                std::to_string(c) + ") is not finite in this precision");
+        return predicted;
+    }
+
     /// The header line and the sizes; throws anima::error before fit.
     void write_header(const char* function, std::ostream& out) const {
         if (!fitted()) throw error(std::string(function) + ": the regressor has not been fitted");

@@ -52,10 +52,12 @@ public:
     regressor_kind kind() const override { return regressor_kind::svr; }
 
     void fit(const matrix& inputs, const matrix& outputs) override {
-        this->check_fit("anima::svr_regressor::fit", inputs, outputs);
+        const std::string who = "anima::svr_regressor::fit";
+        this->check_fit(who.c_str(), inputs, outputs);
         auto in_scale = detail::regress_standardizer<T>::fit(inputs);
         auto out_scale = detail::regress_standardizer<T>::fit(outputs);
-        const matrix x = in_scale.apply(inputs), z = out_scale.apply(outputs);
+        const matrix x = in_scale.apply_checked(inputs, who, "inputs");
+        const matrix z = out_scale.apply_checked(outputs, who, "outputs");
         T gamma = params_.gamma;
         if (!(gamma > T(0))) {
             const T variance = x.squaredNorm() / static_cast<T>(x.size());  // 1, or less with constant columns
@@ -79,6 +81,8 @@ public:
             if (progress_) progress_("svr", static_cast<int>(col + 1), static_cast<int>(m));
         }
 
+        if (!beta.allFinite() || !bias.allFinite())
+            throw error(who + ": the fitted dual coefficients are not finite in this precision");
         // Keep the samples some column uses.
         std::vector<Eigen::Index> kept;
         for (Eigen::Index i = 0; i < n; ++i)
@@ -105,7 +109,7 @@ public:
                              ? matrix(matrix::Zero(inputs.rows(), coefficients_.cols()))
                              : matrix(detail::rbf_kernel<T>(input_scale_.apply(inputs), support_vectors_, gamma_) *
                                       coefficients_);
-        return output_scale_.invert(z.rowwise() + bias_);
+        return this->finite_prediction("anima::svr_regressor::predict", output_scale_.invert(z.rowwise() + bias_));
     }
 
     void save(std::ostream& out) const override {
