@@ -203,6 +203,13 @@ TEST_CASE_TEMPLATE("keys whose objective overflows (times a hair apart, huge gra
     CHECK(contains(invalid_argument_message([&] { anima::flight_problem<T>(model, squeezed, {}); }),
                    "the objective at the keys' own times is not finite in this precision (shortest key interval " +
                        anima::detail::argument_text(tiny)));
+    // Closer still, the key spline's curvatures overflow too (cubic_spline
+    // refuses them): still reported for the keys.
+    const T closer = static_cast<T>(std::is_same_v<T, float> ? 1e-20 : 1e-300);
+    for (std::size_t k = 0; k < squeezed.size(); ++k) squeezed.times[k] = closer * static_cast<T>(k);
+    CHECK(contains(invalid_argument_message([&] { anima::flight_problem<T>(model, squeezed, {}); }),
+                   "the objective at the keys' own times is not finite in this precision (shortest key interval " +
+                       anima::detail::argument_text(closer)));
     anima::flight_settings<T> heavy;
     heavy.gravity = vec3<T>(T(0), -static_cast<T>(std::is_same_v<T, float> ? 1e30 : 1e300), T(0));
     CHECK(contains(invalid_argument_message([&] { anima::flight_problem<T>(model, keys, heavy); }),

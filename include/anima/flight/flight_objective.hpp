@@ -180,7 +180,14 @@ public:
         // hair apart (or a huge gravity) overflow it, in float long before
         // double. Refused here, where the keys are named, rather than as a
         // non-finite start in the optimiser.
-        if (!std::isfinite(objective(keys_.times))) {
+        bool finite = false;
+        try {
+            finite = std::isfinite(objective(keys_.times));
+        } catch (const invalid_argument&) {
+            // cubic_spline refuses curvatures that overflow (keys closer
+            // still): the same cause, reported below for the keys.
+        }
+        if (!finite) {
             T shortest = keys_.times[1] - keys_.times[0];
             for (std::size_t k = 2; k < keys_.size(); ++k) shortest = std::min(shortest, keys_.times[k] - keys_.times[k - 1]);
             throw invalid_argument(std::string(who) + ": the objective at the keys' own times is not finite in this "
