@@ -224,6 +224,28 @@ TEST_CASE_TEMPLATE("pca: one sample, one dimension, constant data", T, float, do
     CHECK(contains(invalid_argument_message([&] { d1.project(vector<T>::Zero(2)); }), "has size 2, expected 1"));
 }
 
+TEST_CASE_TEMPLATE("pca keeps a small spread about a large offset, drops rounding noise, refuses overflow", T, float,
+                   double) {
+    // A spread of 1e-3 (float: 10) about an offset of 1e6 is information: the
+    // rank floor is centring's rounding, not the offset's square times epsilon.
+    const T offset = T(1e6), spread = static_cast<T>(std::is_same_v<T, float> ? 10.0 : 1e-3);
+    matrix<T> x(10, 3);
+    for (Eigen::Index i = 0; i < x.rows(); ++i)
+        x.row(i) << offset + spread * static_cast<T>(i), offset - spread * static_cast<T>(i % 3), offset;
+    const auto p = anima::pca<T>::fit(x);
+    CHECK(p.size() == 2);
+    CHECK(p.explained_fraction() > T(0.99));
+    // The same samples but for one unit in the last place: no components.
+    matrix<T> noise = matrix<T>::Constant(10, 3, offset);
+    for (Eigen::Index i = 0; i < noise.rows(); i += 2) noise(i, 1) = std::nextafter(offset, T(2) * offset);
+    CHECK(anima::pca<T>::fit(noise).size() == 0);
+    // Squares past the type's range: refused, not 0 components.
+    const T huge = static_cast<T>(std::is_same_v<T, float> ? 1e19 : 1e155);
+    matrix<T> wide(4, 2);
+    wide << huge, T(0), -huge, T(1), huge, T(2), -huge, T(3);
+    CHECK(contains(invalid_argument_message([&] { (void)anima::pca<T>::fit(wide); }), "overflows in this precision"));
+}
+
 TEST_CASE_TEMPLATE("pca clamp bounds every parameter to +-3 sqrt(lambda) (Eq 6)", T, float, double) {
     anima::random_source rng(8);
     const auto model = anima::pca<T>::fit(random_matrix<T>(rng, 10, 30));

@@ -77,6 +77,12 @@ public:
         const matrix centred = samples.template cast<T>().rowwise() - out.mean_.transpose();
         // Sample covariance (divide by n - 1); a single sample has no variance.
         const T denom = n > 1 ? static_cast<T>(n - 1) : T(1);
+        // Before the eigensolver, which would meet infinite entries.
+        out.total_variance_ = centred.squaredNorm() / denom;
+        if (!std::isfinite(out.total_variance_))
+            throw invalid_argument(who + ": the samples' squared spread overflows in this precision (largest |value| " +
+                                   detail::argument_text(samples.template cast<T>().cwiseAbs().maxCoeff()) +
+                                   "): scale them down");
         matrix basis;  // d x r, unit columns, descending variance
         vector values;
         if (n <= d) {
@@ -95,15 +101,18 @@ public:
             values = eig.eigenvalues().reverse();
             basis = eig.eigenvectors().rowwise().reverse();
         }
-        // Numerically zero directions carry no information: drop them. The
-        // rounding level follows the data's magnitude, not only the largest
-        // eigenvalue, so nearly identical samples give no components.
+        // Numerically zero directions carry no information: drop them. Two
+        // rounding levels: the eigensolver's, relative to the largest
+        // eigenvalue, and centring's, each centred value off by about
+        // |value| epsilon, so that samples equal but for rounding give no
+        // components while a spread of 1e-3 about an offset of 1e6 is kept.
+        const T eps = Eigen::NumTraits<T>::epsilon();
+        const T size = static_cast<T>(std::max(n, d));
         const T largest = values.size() ? std::max(values(0), T(0)) : T(0);
-        const T magnitude = std::max(largest, static_cast<T>(samples.template cast<T>().squaredNorm() / static_cast<T>(n)));
-        const T floor = magnitude * static_cast<T>(std::max(n, d)) * Eigen::NumTraits<T>::epsilon();
+        const T centring = samples.template cast<T>().cwiseAbs().maxCoeff() * eps * size;
+        const T floor = std::max(largest * size * eps, static_cast<T>(n) * static_cast<T>(d) * centring * centring);
         Eigen::Index rank = 0;
         while (rank < values.size() && values(rank) > floor && values(rank) > T(0)) ++rank;
-        out.total_variance_ = centred.squaredNorm() / denom;
         Eigen::Index keep = rank;
         if (options.components > 0) {
             keep = std::min<Eigen::Index>(rank, options.components);
