@@ -311,6 +311,14 @@ TEST_CASE_TEMPLATE("Eq 2: precision without motion, with one frame, and with bad
     CHECK(anima::velocity_precision(matrix<T>(1, 6).setRandom().eval(), T(0.01)) == vector<T>::Ones(6));
     CHECK(anima::velocity_precision(matrix<T>(0, 6), T(0.01)) == vector<T>::Ones(6));
     CHECK(anima::velocity_precision(matrix<T>(10, 0), T(0.01)).size() == 0);
+    // A frame time so short that the velocities' squares overflow: the
+    // message names it as well as the DOFs' scale.
+    const T instant = static_cast<T>(std::is_same_v<T, float> ? 1e-20 : 1e-160);
+    matrix<T> saw(10, 2);
+    for (Eigen::Index i = 0; i < saw.rows(); ++i) saw.row(i) << static_cast<T>(i % 3 * (i % 3)), T(0);  // 0, 1, 4, 0, ...
+    CHECK(contains(invalid_argument_message([&] { (void)anima::velocity_precision(saw, instant); }),
+                   "overflows the scalar type at a frame time of " + anima::detail::argument_text(instant) +
+                       " s; scale the DOFs down or lengthen the frame time"));
 
     const matrix<T> m = features(walk<T>()).topRows(30);
     const T nan = std::numeric_limits<T>::quiet_NaN();

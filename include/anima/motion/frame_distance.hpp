@@ -120,7 +120,8 @@ Eigen::Matrix<T, Eigen::Dynamic, 1> velocity_precision(std::size_t parts, Eigen:
         variance[d] = (velocity.array() - velocity.mean()).square().sum() / static_cast<T>(samples);
         if (!std::isfinite(variance[d]))
             throw invalid_argument("anima::velocity_precision: the velocity variance of column " + std::to_string(d) +
-                                   " overflows the scalar type; scale the DOFs down");
+                                   " overflows the scalar type at a frame time of " + detail::argument_text(frame_time) +
+                                   " s; scale the DOFs down or lengthen the frame time");
     }
     const T floor = regularization * (variance.size() ? variance.maxCoeff() : T(0));
     // A floor whose inverse overflows is motion below T's resolution.
