@@ -85,6 +85,11 @@ TEST_CASE_TEMPLATE("cubic spline: keys a hair apart whose curvatures overflow ar
     bad(2, 0) = std::numeric_limits<T>::quiet_NaN();
     CHECK(contains(invalid_argument_message([&] { anima::cubic_spline<T>({T(0), T(1), T(2), T(3)}, bad); }),
                    "value (2, 0) must be finite, got nan"));
+    // An infinite last time still "increases": refused by name.
+    CHECK(contains(invalid_argument_message([&] {
+                       anima::cubic_spline<T>({T(0), T(1), T(2), std::numeric_limits<T>::infinity()}, y);
+                   }),
+                   "times must be finite; t[3] = inf"));
     // A wider spacing in the same precision still interpolates.
     const T wide = static_cast<T>(std::is_same_v<T, float> ? 1e-13 : 1e-150);
     const anima::cubic_spline<T> s({T(0), wide, T(2) * wide, T(3) * wide}, y);

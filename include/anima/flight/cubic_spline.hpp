@@ -26,7 +26,7 @@ public:
 
     cubic_spline() = default;
 
-    /// times: n >= 2 strictly increasing; values: n rows, one column per
+    /// times: n >= 2, finite, strictly increasing; values: n rows, one column per
     /// component, all finite. Throws anima::invalid_argument otherwise, and
     /// when keys so close together overflow the slopes or curvatures.
     cubic_spline(std::vector<S> times, matrix values) : t_(std::move(times)), y_(std::move(values)) {
@@ -35,6 +35,10 @@ public:
         if (static_cast<std::size_t>(y_.rows()) != n)
             throw invalid_argument("anima::cubic_spline: " + std::to_string(y_.rows()) + " value rows for " +
                                    std::to_string(n) + " times");
+        for (std::size_t i = 0; i < n; ++i)
+            if (!std::isfinite(detail::scalar_value(t_[i])))
+                throw invalid_argument("anima::cubic_spline: times must be finite; t[" + std::to_string(i) + "] = " +
+                                       detail::argument_text(detail::scalar_value(t_[i])));
         for (std::size_t i = 0; i + 1 < n; ++i)
             if (!(t_[i + 1] > t_[i]))
                 throw invalid_argument("anima::cubic_spline: times must increase strictly; t[" + std::to_string(i + 1) +
