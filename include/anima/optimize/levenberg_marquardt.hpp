@@ -41,28 +41,20 @@ struct levenberg_marquardt_params {
     std::function<bool(int iteration, T value)> on_iteration;
 };
 
-/// Minimises 0.5 |r(x)|^2 from x0. R: void(const vector_x<T>& x,
-/// vector_x<T>& residuals, matrix_x<T>* jacobian) writes the residuals
-/// (resizing them) and, when `jacobian` is not null, the m x n Jacobian.
-/// Throws invalid_argument for an empty or non-finite x0, anima::error if
-/// the residuals or Jacobian are not finite at x0 or change size, or if
-/// |r|^2, J'J or J'r overflow there (scale the residuals down).
-template <class T, class R>
-optimize_result<T> levenberg_marquardt(R&& r, vector_x<T> x0, const levenberg_marquardt_params<T>& params = {}) {
-    detail::check_start(x0, "anima::levenberg_marquardt");
+namespace detail {
+
+template <class T>
+void check_lm_params(const levenberg_marquardt_params<T>& params) {
     if (params.max_iterations < 0 || !(params.gradient_tolerance >= T(0)) || !(params.step_tolerance >= T(0)) ||
         !(params.value_tolerance >= T(0)) || !(params.initial_damping > T(0))) {
         throw invalid_argument(
             "levenberg_marquardt: max_iterations and tolerances must not be negative, initial_damping must be positive");
     }
-    const Eigen::Index n = x0.size();
-    optimize_result<T> result;
-    result.x = std::move(x0);
+}
 
-    vector_x<T> residuals;
-    matrix_x<T> jacobian;
-    r(static_cast<const vector_x<T>&>(result.x), residuals, &jacobian);
-    result.evaluations = 1;
+/// The first evaluation: an m x n Jacobian (m > 0), every value finite.
+template <class T>
+void check_lm_start(const vector_x<T>& residuals, const matrix_x<T>& jacobian, Eigen::Index n) {
     const Eigen::Index m = residuals.size();
     if (m == 0 || jacobian.rows() != m || jacobian.cols() != n) {
         throw error("levenberg_marquardt: the Jacobian must be " + std::to_string(m) + " x " + std::to_string(n) +
@@ -72,6 +64,30 @@ optimize_result<T> levenberg_marquardt(R&& r, vector_x<T> x0, const levenberg_ma
     if (!residuals.allFinite() || !jacobian.allFinite()) {
         throw error("levenberg_marquardt: the residuals or the Jacobian are not finite at the start point");
     }
+}
+
+}  // namespace detail
+
+/// Minimises 0.5 |r(x)|^2 from x0. R: void(const vector_x<T>& x,
+/// vector_x<T>& residuals, matrix_x<T>* jacobian) writes the residuals
+/// (resizing them) and, when `jacobian` is not null, the m x n Jacobian.
+/// Throws invalid_argument for an empty or non-finite x0, anima::error if
+/// the residuals or Jacobian are not finite at x0 or change size, or if
+/// |r|^2, J'J or J'r overflow there (scale the residuals down).
+template <class T, class R>
+optimize_result<T> levenberg_marquardt(R&& r, vector_x<T> x0, const levenberg_marquardt_params<T>& params = {}) {
+    detail::check_start(x0, "anima::levenberg_marquardt");
+    detail::check_lm_params(params);
+    const Eigen::Index n = x0.size();
+    optimize_result<T> result;
+    result.x = std::move(x0);
+
+    vector_x<T> residuals;
+    matrix_x<T> jacobian;
+    r(static_cast<const vector_x<T>&>(result.x), residuals, &jacobian);
+    result.evaluations = 1;
+    const Eigen::Index m = residuals.size();
+    detail::check_lm_start(residuals, jacobian, n);
     result.value = residuals.squaredNorm() / T(2);
 
     matrix_x<T> normal = jacobian.transpose() * jacobian;
