@@ -84,62 +84,8 @@ std::vector<std::size_t> choose_frames(const render_options& o, std::size_t fram
     return out;
 }
 
-struct view_basis {
-    vec3 right;     ///< world direction drawn to the right
-    vec3 up;        ///< world direction drawn upwards
-    vec3 toward;    ///< world direction toward the viewer (for drawing order)
-    bool vertical;  ///< `up` is the figure's up axis (front and side views)
-};
-
-view_basis make_view(const std::string& view, anima::signed_axis up_axis, anima::signed_axis left) {
-    const vec3 up = anima::axis_vector<double>(up_axis), l = anima::axis_vector<double>(left);
-    const vec3 forward = l.cross(up);  // a figure facing +Z with +Y up has its left at +X
-    if (view == "side") return {forward, up, -l, true};  // seen from its right side, walking to the right
-    if (view == "top") return {-l, forward, up, false};  // seen from above, facing up the page
-    return {l, up, forward, true};                       // seen from the front: its left on our right
-}
-
-/// A line from joint `from` to joint `to`, or to `to`'s End Site.
-struct bone {
-    std::size_t from, to;
-    bool end_site;
-    anima::body_side side;
-};
-
-/// Each joint's bone from its parent, then the one to its End Site.
-std::vector<bone> bones_of(const skeleton_t& sk) {
-    std::vector<bone> out;
-    for (std::size_t j = 0; j < sk.size(); ++j) {
-        const anima::body_side side = anima::side_of(sk[j].name);
-        if (sk[j].parent >= 0) out.push_back({static_cast<std::size_t>(sk[j].parent), j, false, side});
-        if (sk[j].end_site) out.push_back({j, j, true, side});
-    }
-    return out;
-}
-
-/// A bone in view coordinates: its ends, its depth toward the viewer and its length.
-struct segment {
-    double x1, y1, x2, y2, depth, length;
-    anima::body_side side;
-};
-
-/// The bones of frame `f` in view coordinates, relative to the root's
-/// horizontal position so that the figure stays centred.
-std::vector<segment> project_bones(const clip_t& clip, std::size_t f, const std::vector<bone>& bones,
-                                   const view_basis& basis) {
-    const auto pose = anima::forward_kinematics(clip, f);
-    const std::vector<vec3> sites = anima::end_site_positions(clip.skeleton(), pose);
-    const vec3 root = pose.positions[0];
-    const double rx = root.dot(basis.right), ry = basis.vertical ? 0.0 : root.dot(basis.up);
-    std::vector<segment> out;
-    for (const bone& b : bones) {
-        const vec3& p = pose.positions[b.from];
-        const vec3& q = b.end_site ? sites[b.to] : pose.positions[b.to];
-        out.push_back({p.dot(basis.right) - rx, p.dot(basis.up) - ry, q.dot(basis.right) - rx, q.dot(basis.up) - ry,
-                       (p + q).dot(basis.toward) / 2, (p - q).norm(), b.side});
-    }
-    return out;
-}
+using segment = anima::stick_segment<double>;
+using view_basis = anima::stick_view_basis<double>;
 
 /// The box segments span in view coordinates.
 struct view_box {
@@ -167,10 +113,10 @@ struct projection {
 
 projection project_frames(const clip_t& clip, const std::vector<std::size_t>& frames, const view_basis& basis) {
     projection out;
-    const std::vector<bone> bones = bones_of(clip.skeleton());
+    const std::vector<anima::stick_bone> bones = anima::stick_bones(clip.skeleton());
     for (const std::size_t f : frames) {
         panel pn{f, {}};
-        for (const segment& s : project_bones(clip, f, bones, basis))
+        for (const segment& s : anima::project_stick_figure(clip, f, bones, basis))
             if (s.length >= 1e-9) {
                 pn.segments.push_back(s);
                 out.box.extend(s);
@@ -234,13 +180,14 @@ void run_animate(const render_options& o, const clip_t& clip, const view_basis& 
                          "an animation of " + std::to_string(frames.size()) + " frames", "--span or --fps");
     // Bones in a fixed order (each <line> is one bone all along): the
     // figure's left side first, its right side last.
-    std::vector<bone> bones = bones_of(sk);
+    std::vector<anima::stick_bone> bones = anima::stick_bones(sk);
     const auto rank = [](anima::body_side s) { return s == anima::body_side::left ? 0 : s == anima::body_side::right ? 2 : 1; };
-    std::stable_sort(bones.begin(), bones.end(), [&](const bone& a, const bone& b) { return rank(a.side) < rank(b.side); });
+    std::stable_sort(bones.begin(), bones.end(),
+                     [&](const anima::stick_bone& a, const anima::stick_bone& b) { return rank(a.side) < rank(b.side); });
     std::vector<std::vector<segment>> ends;  // per frame and bone
     view_box box;
     for (const std::size_t f : frames) {
-        ends.push_back(project_bones(clip, f, bones, basis));
+        ends.push_back(anima::project_stick_figure(clip, f, bones, basis));
         for (const segment& e : ends.back()) box.extend(e);
     }
     if (!std::isfinite(box.xmin)) throw failure("'" + o.input + "' has no bones to animate");
@@ -310,7 +257,8 @@ void run_render(const render_options& o) {
     if (clip.empty()) throw failure("'" + o.input + "' has no frames to render");
     const skeleton_t& sk = clip.skeleton();
     const anima::signed_axis up = up_axis_or_guess(o.up, sk, o.input);
-    const view_basis basis = make_view(o.view, up, anima::left_axis(sk, up));
+    const view_basis basis =
+        anima::make_stick_view<double>(anima::parse_stick_view(o.view), up, anima::left_axis(sk, up));
     if (o.animate) return run_animate(o, clip, basis, up);
     const std::vector<std::size_t> frames = choose_frames(o, clip.frames());
 
@@ -405,7 +353,7 @@ void register_render(CLI::App& app) {
     add_setting(*sub, "--view", opts->view,
                 "front: up and the figure's left-right axis; side: up and its front-back axis (seen from its "
                 "right); top: seen from above",
-                CLI::IsMember({"front", "side", "top"}))
+                CLI::IsMember(anima::enum_name_list<anima::stick_view>()))
         ->type_name("VIEW");
     add_up_option(*sub, opts->up);
     opts->width_opt = sub->add_option("--width", opts->width, "Width of the image (default: from the figure's proportions)")

@@ -92,22 +92,13 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
             anima::to_dof_matrix(inputs[i], layout);
     const Eigen::MatrixXd b = anima::to_dof_matrix(t.motion, layout);
     plot_image img;
-    std::vector<double> lo, hi;  // each shown DOF's range in the input
     // DOFs that barely move in the input (uncaptured fingers: rounding
     // noise) would show noise stretched to full contrast: left out.
-    for (std::size_t c = 0; c < layout.size(); ++c) {
-        const auto& d = layout.dofs[c];
-        const auto col = static_cast<Eigen::Index>(c);
-        const double range = a.col(col).maxCoeff() - a.col(col).minCoeff();
-        const bool ground = d.joint == 0 && d.type == anima::dof::kind::translation && d.component != static_cast<int>(up.axis);
-        const double least = d.type == anima::dof::kind::rotation ? anima::radians(2.0) : 1e-3 * anima::figure_height(input.skeleton(), up);
-        if (ground || !(range > least)) continue;
-        img.shown.push_back(col);
-        lo.push_back(a.col(col).minCoeff());
-        hi.push_back(a.col(col).maxCoeff());
-    }
+    const std::vector<anima::dof_range<double>> moving = anima::moving_dofs(
+        a, layout, up, anima::radians(2.0), 1e-3 * anima::figure_height(input.skeleton(), up));
+    if (moving.empty()) throw failure("--plot: no DOF of the input moves by 2 degrees or more");
+    for (const auto& d : moving) img.shown.push_back(d.column);
     const auto& shown = img.shown;
-    if (shown.empty()) throw failure("--plot: no DOF of the input moves by 2 degrees or more");
     const std::size_t n_out = t.motion.frames();
     img.scale = std::min(1.0, 1200.0 / static_cast<double>(n_out));
     const double scale = img.scale;
@@ -129,9 +120,9 @@ plot_image make_plot_image(const std::vector<clip_t>& inputs, const anima::motio
         unsigned char rgb[3];
         for (int x = 0; x < pixels; ++x) {
             const auto f = static_cast<Eigen::Index>(std::min<std::size_t>(frames - 1, static_cast<std::size_t>(x / scale)));
-            for (std::size_t i = 0; i < shown.size(); ++i) {
-                const double range = hi[i] - lo[i];
-                colour(range > 1e-9 ? (m(f, shown[i]) - lo[i]) / range : 0.5, rgb);
+            for (std::size_t i = 0; i < moving.size(); ++i) {
+                const double range = moving[i].hi - moving[i].lo;
+                colour(range > 1e-9 ? (m(f, moving[i].column) - moving[i].lo) / range : 0.5, rgb);
                 fill(x, x, top + static_cast<int>(i) * row_h, top + static_cast<int>(i + 1) * row_h, rgb);
             }
         }

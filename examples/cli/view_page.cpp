@@ -113,13 +113,9 @@ json contacts_json(const clip_t& c, const clip_points& pts, anima::signed_axis u
 }
 
 json clip_json(const view_clip& v, const clip_points& pts, const placement& p) {
-    const skeleton_t& sk = v.motion.skeleton();
     json bones = json::array();
-    for (std::size_t j = 0; j < sk.size(); ++j) {
-        const int side = static_cast<int>(anima::side_of(sk[j].name));
-        if (sk[j].parent >= 0) bones.push_back({sk[j].parent, j, side});
-        if (pts.end_of[j] != std::string::npos) bones.push_back({j, pts.end_of[j], side});
-    }
+    for (const anima::stick_bone& b : anima::stick_bones(v.motion.skeleton()))
+        bones.push_back({b.from, b.end_site ? pts.end_of[b.to] : b.to, static_cast<int>(b.side)});
     json positions = json::array();
     for (const vec3& q : pts.points) {
         const vec3 r = p.to_page(q);

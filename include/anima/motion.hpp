@@ -13,10 +13,12 @@
 #include <anima/motion/frame_features.hpp>
 #include <anima/motion/instances.hpp>
 #include <anima/motion/joint_roles.hpp>
+#include <anima/motion/moving_dofs.hpp>
 #include <anima/motion/reorient.hpp>
 #include <anima/motion/resample.hpp>
 #include <anima/motion/resequence.hpp>
 #include <anima/motion/rest_pose.hpp>
 #include <anima/motion/skeleton.hpp>
 #include <anima/motion/speed_limits.hpp>
+#include <anima/motion/stick_figure.hpp>
 #include <anima/motion/velocities.hpp>

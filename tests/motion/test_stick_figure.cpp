@@ -1,0 +1,100 @@
+// Stick figures: the view bases are right-handed and put the figure's left
+// where each view says, and the projected bones match coordinates worked
+// out by hand for a small skeleton posed by hand.
+#include <anima/motion/stick_figure.hpp>
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <vector>
+
+namespace {
+
+using anima::body_side;
+using anima::signed_axis;
+
+TEST_CASE_TEMPLATE("make_stick_view: front shows the left on the right, side faces right, top looks down", T, float,
+                   double) {
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    const signed_axis up{anima::axis::y, 1}, left{anima::axis::x, 1};
+    const auto front = anima::make_stick_view<T>(anima::stick_view::front, up, left);
+    CHECK(front.right == vec3(1, 0, 0));
+    CHECK(front.up == vec3(0, 1, 0));
+    CHECK(front.toward == vec3(0, 0, 1));  // left x up: the figure faces +Z, toward the viewer
+    CHECK(front.vertical);
+    const auto side = anima::make_stick_view<T>(anima::stick_view::side, up, left);
+    CHECK(side.right == vec3(0, 0, 1));
+    CHECK(side.toward == vec3(-1, 0, 0));  // seen from the figure's right
+    const auto top = anima::make_stick_view<T>(anima::stick_view::top, up, left);
+    CHECK(top.right == vec3(-1, 0, 0));
+    CHECK(top.up == vec3(0, 0, 1));
+    CHECK(top.toward == vec3(0, 1, 0));
+    CHECK_FALSE(top.vertical);
+    // Every basis is orthonormal and right-handed (right x up = toward).
+    for (const auto view : {anima::stick_view::front, anima::stick_view::side, anima::stick_view::top})
+        for (const signed_axis u : {signed_axis{anima::axis::z, 1}, signed_axis{anima::axis::y, -1}}) {
+            const signed_axis l{u.axis == anima::axis::x ? anima::axis::y : anima::axis::x, -1};
+            const auto b = anima::make_stick_view<T>(view, u, l);
+            CHECK((b.right.cross(b.up) - b.toward).norm() < T(1e-6));
+        }
+    CHECK_THROWS_AS(anima::make_stick_view<T>(anima::stick_view::front, up, signed_axis{anima::axis::y, -1}),
+                    anima::invalid_argument);
+    CHECK(anima::parse_stick_view("side") == anima::stick_view::side);
+    CHECK_THROWS_AS(anima::parse_stick_view("back"), anima::invalid_argument);
+}
+
+TEST_CASE_TEMPLATE("project_stick_figure matches hand-worked coordinates", T, float, double) {
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    // Hips at (1, 2, 3); LeftLeg 1 below and 0.5 to the left (+X), with an
+    // End Site 1 further down; RightArm 1 to the right (-X), no End Site.
+    anima::skeleton<T> sk;
+    using anima::channel;
+    sk.add_joint("Hips", -1, vec3(0, 0, 0),
+                 {channel::x_position, channel::y_position, channel::z_position, channel::z_rotation,
+                  channel::x_rotation, channel::y_rotation});
+    sk.add_joint("LeftLeg", 0, vec3(T(0.5), -1, 0));
+    sk.set_end_site(1, vec3(0, -1, 0));
+    sk.add_joint("RightArm", 0, vec3(-1, 0, 0));
+    const auto bones = anima::stick_bones(sk);
+    REQUIRE(bones.size() == 3);
+    CHECK((bones[0].from == 0 && bones[0].to == 1 && !bones[0].end_site && bones[0].side == body_side::left));
+    CHECK((bones[1].from == 1 && bones[1].to == 1 && bones[1].end_site && bones[1].side == body_side::left));
+    CHECK((bones[2].from == 0 && bones[2].to == 2 && bones[2].side == body_side::right));
+
+    anima::clip<T> c(sk, 2, T(1) / 30);
+    c.set_translation(1, 0, vec3(1, 2, 3));
+    // Frame 1: the hips turn 90 degrees about +Y: +X goes to -Z.
+    c.set_rotation(1, 0, Eigen::Quaternion<T>(Eigen::AngleAxis<T>(T(std::acos(-1.0) / 2), vec3::UnitY())));
+    const signed_axis up{anima::axis::y, 1}, left{anima::axis::x, 1};
+    const auto front = anima::make_stick_view<T>(anima::stick_view::front, up, left);
+    const auto s = anima::project_stick_figure(c, 1, bones, front);
+    REQUIRE(s.size() == 3);
+    // Root-relative across, absolute up: hips (0, 2); LeftLeg at (1, 1, 3 - 0.5)
+    // -> (0, 1), depth of the bone (3 + 2.5) / 2; its End Site (0, 0).
+    const T eps = T(1e-5);
+    CHECK(std::abs(s[0].x1) < eps);
+    CHECK(s[0].y1 == doctest::Approx(2).epsilon(1e-5));
+    CHECK(std::abs(s[0].x2) < eps);
+    CHECK(s[0].y2 == doctest::Approx(1).epsilon(1e-5));
+    CHECK(s[0].depth == doctest::Approx(2.75).epsilon(1e-5));
+    CHECK(s[0].length == doctest::Approx(std::sqrt(1.25)).epsilon(1e-5));
+    CHECK(s[1].y2 == doctest::Approx(0).epsilon(1e-5));
+    CHECK(s[1].length == doctest::Approx(1).epsilon(1e-5));
+    // RightArm: -X turned to +Z: (1, 2, 4), straight toward the viewer.
+    CHECK(std::abs(s[2].x2) < eps);
+    CHECK(s[2].depth == doctest::Approx(3.5).epsilon(1e-5));
+    CHECK(s[2].side == body_side::right);
+    // The top view keeps the root at the origin in both directions.
+    const auto top = anima::project_stick_figure(c, 1, bones, anima::make_stick_view<T>(anima::stick_view::top, up, left));
+    CHECK(std::abs(top[0].x1) < eps);
+    CHECK(std::abs(top[0].y1) < eps);
+    CHECK(top[2].y2 == doctest::Approx(1).epsilon(1e-5));  // +Z, the way a figure with its left at +X faces: up the page
+
+    CHECK_THROWS_AS(anima::project_stick_figure(c, 2, bones, front), anima::invalid_argument);
+    CHECK_THROWS_AS(anima::project_stick_figure(c, 0, {anima::stick_bone{0, 3, false, body_side::centre}}, front),
+                    anima::invalid_argument);
+}
+
+}  // namespace
