@@ -204,7 +204,6 @@ void write_figure(const std::string& path, const anima::sadm_model<double>& mode
     for (std::size_t c = 0; c < count; ++c) picks.push_back(c * (f.images.size() - 1) / std::max<std::size_t>(1, count - 1));
     anima::random_source rng(seed);
     std::vector<std::vector<grey>> rows(3);
-    Eigen::Index w = 0, h = 0;
     for (std::size_t k : picks) {
         const auto& img = f.images[k];
         const auto& lm = f.landmarks[k];
@@ -217,17 +216,8 @@ void write_figure(const std::string& path, const anima::sadm_model<double>& mode
         const Eigen::Index y1 = std::min<Eigen::Index>(img.rows(), static_cast<Eigen::Index>(lm.col(1).maxCoeff()) + 9);
         const grey shown[] = {img, model.synthesize(lm, img), model.synthesize(noisy, img)};
         for (std::size_t r = 0; r < 3; ++r) rows[r].push_back(shown[r].block(y0, x0, y1 - y0, x1 - x0));
-        w = std::max(w, x1 - x0);
-        h = std::max(h, y1 - y0);
     }
-    const Eigen::Index gap = 4;
-    grey sheet = grey::Constant(3 * h + 2 * gap, static_cast<Eigen::Index>(picks.size()) * (w + gap) - gap, 255.0);
-    for (std::size_t r = 0; r < 3; ++r)
-        for (std::size_t c = 0; c < picks.size(); ++c) {
-            const grey& tile = rows[r][c];
-            sheet.block(static_cast<Eigen::Index>(r) * (h + gap), static_cast<Eigen::Index>(c) * (w + gap), tile.rows(), tile.cols()) = tile;
-        }
-    save_grey(path, sheet, "--figure");
+    save_grey(path, anima::tile_grid(rows, 4, 255.0), "--figure");
 }
 
 void run_eval(const eval_options& o) {

@@ -7,6 +7,7 @@
 #include "svg_chart.hpp"
 
 #include <anima/image/block_mean.hpp>
+#include <anima/image/percentile_grey.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -148,15 +149,9 @@ matrix_image write_distance_matrix(const std::string& path, const std::string& i
     const row_major value = anima::block_mean_resample(d, out.size, out.size);
     // Black = identical frames, white = the 99th percentile of the pixels and
     // above: a few extreme frames should not leave everything else black.
-    std::vector<double> sorted(value.data(), value.data() + value.size());
-    const auto q = sorted.begin() + static_cast<std::ptrdiff_t>((sorted.size() - 1) * 99 / 100);
-    std::nth_element(sorted.begin(), q, sorted.end());
-    out.white = *q;
-    std::vector<unsigned char> pixels(sorted.size());
-    for (std::size_t k = 0; k < pixels.size(); ++k) {
-        const double g = out.white > 0 ? std::min(1.0, value.data()[k] / out.white) : 0.0;
-        pixels[k] = static_cast<unsigned char>(std::lround(255 * g));
-    }
+    const anima::grey_levels<double> grey = anima::percentile_grey(value, 99);
+    out.white = grey.white;
+    const std::vector<unsigned char>& pixels = grey.bytes;
     if (is_svg_path(path))
         write_text_file(path, matrix_svg(png_bytes(out.size, out.size, 1, pixels, "--matrix"), file_name(input), m, params, out.white));
     else
