@@ -58,8 +58,8 @@ void write_plot(const std::string& path, const std::vector<double>& before, cons
 
 // Work of a run, in evaluations of one joint's dynamics at one quadrature
 // node with automatic derivatives (about 2.3 us each, measured): each
-// iteration takes one Jacobian, ceil(parameters / 16) passes over all
-// nodes, and solves its normal equations (about 9000 flops a unit).
+// iteration (anima::flight_work_per_iteration) takes one Jacobian and
+// solves its normal equations (about 9000 flops a unit).
 constexpr double max_flight_work = 4e6;  // about 10 s
 constexpr double flops_per_work_unit = 9000;
 
@@ -77,16 +77,13 @@ void check_flight_size(const anima::flight_problem<double>& problem, const anima
                          "flight: " + keys + ", a " + format_number(residuals) + " x " + format_number(parameters) +
                              " Jacobian,",
                          "the key count (KEYS.json or --keys) or --quadrature");
-    const double passes = std::ceil(parameters / anima::flight_problem<double>::jacobian_width);
-    const double joint_evaluations = passes * static_cast<double>(problem.model().size()) * residuals / 6;
-    const double per_iteration =
-        joint_evaluations + (residuals * parameters * parameters + parameters * parameters * parameters / 3) /
-                                flops_per_work_unit;
+    const anima::flight_iteration_work iteration = anima::flight_work_per_iteration(problem, p.model);
+    const double per_iteration = iteration.joint_evaluations + iteration.flops / flops_per_work_unit;
     const double work = per_iteration * (o.iterations + 1);
     if (!o.example.empty() || work <= max_flight_work) return;
     const double fit = std::floor(max_flight_work / per_iteration) - 1;
     throw failure("flight: " + keys + " need up to " + std::to_string(o.iterations + 1) + " Jacobians of " +
-                  format_number(passes) + " passes over the " + std::to_string(problem.model().size()) +
+                  format_number(iteration.passes) + " passes over the " + std::to_string(problem.model().size()) +
                   "-joint body at " + format_number(residuals / 6) + " quadrature nodes, about " +
                   format_number(work, 3) + " joint evaluations (some " + format_number(work * 2.3e-6, 3) +
                   " s), more than the " + format_number(max_flight_work) + " allowed: " +

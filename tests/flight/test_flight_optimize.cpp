@@ -12,6 +12,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -107,6 +108,15 @@ TEST_CASE_TEMPLATE("somersault keys and optimiser arguments are checked", T, flo
     const double bytes = anima::flight_solver_bytes(somersault, small.model);
     CHECK(bytes > small.max_memory);
     CHECK(bytes == doctest::Approx(sizeof(T) * (2.0 * 264 * 10 + 3.0 * 10 * 10 + 264.0 * 19)));
+    // An iteration: one pass for 10 parameters, over 31 joints at 11 x 4 nodes.
+    const anima::flight_iteration_work work = anima::flight_work_per_iteration(somersault, small.model);
+    CHECK(work.passes == 1);
+    CHECK(work.joint_evaluations == doctest::Approx(31.0 * 44));
+    CHECK(work.flops == doctest::Approx(264.0 * 10 * 10 + 1000.0 / 3));
+    const auto full = anima::flight_work_per_iteration(somersault, anima::flight_model::timing_and_poses);
+    const double n = static_cast<double>(somersault.full_size());
+    CHECK(full.passes == std::ceil(n / 16));
+    CHECK(full.joint_evaluations == doctest::Approx(std::ceil(n / 16) * 31 * 44));
     const std::string message = invalid_argument_message([&] { anima::optimize_flight(somersault, small); });
     CHECK(contains(message, "12 keys with 4 quadrature points need a 264 x 10 Jacobian"));
     CHECK(contains(message, "more than max_memory"));

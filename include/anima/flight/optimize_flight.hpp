@@ -64,6 +64,29 @@ double flight_solver_bytes(const flight_problem<T>& problem, flight_model model)
     return static_cast<double>(sizeof(T)) * (2 * m * n + 3 * n * n + m * (width + 3));
 }
 
+/// The work of one iteration of optimize_flight: the passes its Jacobian
+/// makes over the quadrature nodes (ceil(parameters / jacobian_width)),
+/// the evaluations of one joint's dynamics at one node they make (passes x
+/// joints x nodes, a node being 6 residuals), and the floating-point
+/// operations of its normal equations (residuals x parameters^2 to form
+/// J'J, parameters^3 / 3 to factor it). What a caller multiplies by the
+/// iterations and its machine's speed to refuse a run that would take too
+/// long.
+struct flight_iteration_work {
+    double passes = 0, joint_evaluations = 0, flops = 0;
+};
+
+template <class T>
+flight_iteration_work flight_work_per_iteration(const flight_problem<T>& problem, flight_model model) {
+    const double m = static_cast<double>(problem.residual_count());
+    const double n = static_cast<double>(flight_parameter_count(problem, model));
+    flight_iteration_work out;
+    out.passes = std::ceil(n / flight_problem<T>::jacobian_width);
+    out.joint_evaluations = out.passes * static_cast<double>(problem.model().size()) * m / 6;
+    out.flops = m * n * n + n * n * n / 3;
+    return out;
+}
+
 /// Optimises the problem's keys from their own times and poses. Throws
 /// anima::invalid_argument for fewer than 3 keys, a bad model, or a problem
 /// whose solver would need more than params.max_memory bytes.
