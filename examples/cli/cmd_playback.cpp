@@ -81,10 +81,7 @@ void run_playback(const playback_options& o) {
     check_outputs({{"--output", &o.output}, {"--view", &o.view}});
     const anima::symmetry_params<double> params = make_symmetry_params(o.symmetry);
     const motion_range m = load_motion_range(o.input, o.range);
-    check_request_memory(static_cast<double>(o.frames), bytes_per_frame(m.clip.skeleton()),
-                         "--frames " + std::to_string(o.frames) + " of " + std::to_string(m.clip.skeleton().channel_count()) +
-                             " channels",
-                         "--frames");
+    check_frames_memory(o.frames, m.clip.skeleton());
     if (o.video_texture) check_jump_search(m);
     const std::size_t n = m.clip.frames();
     const std::size_t last = m.first + n - 1;

@@ -527,10 +527,7 @@ void run_texture(texture_options o) {
     if (o.order == "least-cost" && clips.size() > 1) order_costs = reorder_clips(o, clips, firsts);
     const clip_t& c = clips[0];
     // The texture, its DOF matrix, the Poisson solve over it and its BVH text.
-    check_request_memory(static_cast<double>(o.frames), bytes_per_frame(c.skeleton()),
-                         "--frames " + std::to_string(o.frames) + " of " + std::to_string(c.skeleton().channel_count()) +
-                             " channels",
-                         "--frames");
+    check_frames_memory(o.frames, c.skeleton());
     const double read_seconds = timer.lap();
 
     const anima::motion_texture_params<double> p = texture_params(o, clips);

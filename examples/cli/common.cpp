@@ -174,6 +174,13 @@ double bytes_per_frame(const skeleton_t& skeleton) {
     return joints * 7 * 8 * 3 + channels * (8 * 4 + 12);
 }
 
+void check_frames_memory(std::size_t frames, const skeleton_t& skeleton) {
+    check_request_memory(static_cast<double>(frames), bytes_per_frame(skeleton),
+                         "--frames " + std::to_string(frames) + " of " + std::to_string(skeleton.channel_count()) +
+                             " channels",
+                         "--frames");
+}
+
 void check_request_memory(double count, double bytes_each, const std::string& what, std::string_view option,
                           double limit) {
     const double bytes = count * bytes_each;

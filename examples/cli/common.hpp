@@ -154,6 +154,10 @@ void check_request_memory(double count, double bytes_each, const std::string& wh
 /// rotations and translations, a frames x DOF copy or two, and its BVH text.
 double bytes_per_frame(const skeleton_t& skeleton);
 
+/// check_request_memory for an output of `frames` frames of `skeleton`
+/// asked for with --frames.
+void check_frames_memory(std::size_t frames, const skeleton_t& skeleton);
+
 // ---------------------------------------------------------------------------
 // Output
 // ---------------------------------------------------------------------------
