@@ -421,9 +421,7 @@ clip_t read_texture_input(const texture_options& o, const std::string& input, st
     if (whole.frames() == 0) throw failure("'" + input + "' has no frames");
     first = o.first;
     const bool first_given = o.first_opt->count() > 0;
-    if (first_given && first >= whole.frames())
-        throw failure("--first " + std::to_string(first) + " is outside '" + input + "' (" +
-                      std::to_string(whole.frames()) + " frames)");
+    if (first_given) check_frame_in(first, whole.frames(), input, "--first");
     if (!first_given) {
         first = anima::rest_pose_lead_in(whole);
         if (first > 0)

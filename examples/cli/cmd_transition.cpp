@@ -27,13 +27,6 @@ struct transition_options {
     bool json = false, no_plant_feet = false, root_from_feet = true;
 };
 
-void check_frame(std::size_t frame, const clip_t& c, const std::string& path, const char* option) {
-    if (frame >= c.frames())
-        throw failure(std::string(option) + " " + std::to_string(frame) + " is outside '" + path + "' (" +
-                      std::to_string(c.frames()) + " frames, 0.." + std::to_string(c.frames() ? c.frames() - 1 : 0) +
-                      ")");
-}
-
 /// --feet-plot: each foot's height above its standing height and, while it
 /// is on the ground, its horizontal speed (the skate), through the window
 /// and half a second either side, as the method left them and planted.
@@ -128,8 +121,8 @@ void run_transition(const transition_options& o) {
     check_outputs({{"--output", &o.output}, {"--view", &o.view}, {"--feet-plot", &o.feet_plot}});
     const clip_t a = load_clip(o.a);
     const clip_t b = load_clip(o.b);
-    check_frame(o.at, a, o.a, "--at");
-    check_frame(o.to, b, o.b, "--to");
+    check_frame_in(o.at, a.frames(), o.a, "--at");
+    check_frame_in(o.to, b.frames(), o.b, "--to");
     anima::check_same_hierarchy(a.skeleton(), b.skeleton());
     if (o.min_duration > o.max_duration) throw failure("--min-duration is larger than --max-duration");
     // The in-between frames of the shortest transition allowed (the longest

@@ -483,6 +483,13 @@ void add_frame_range_options(CLI::App& sub, frame_range_options& o) {
     add_up_option(sub, o.up);
 }
 
+void check_frame_in(std::size_t frame, std::size_t frames, const std::string& path, std::string_view option) {
+    if (frame >= frames)
+        throw failure(std::string(option) + " " + std::to_string(frame) + " is outside '" + path + "' (" +
+                      std::to_string(frames) +
+                      (frames == 1 ? " frame, 0)" : " frames, 0.." + std::to_string(frames ? frames - 1 : 0) + ")"));
+}
+
 motion_range load_motion_range(const std::string& path, const frame_range_options& o) {
     const std::string text = read_text_file(path);
     const clip_t whole = anima::to_clip(anima::parse_bvh_document<double>(text, path));
@@ -490,12 +497,8 @@ motion_range load_motion_range(const std::string& path, const frame_range_option
     if (n == 0) throw failure("'" + path + "' has no frames");
     const bool last_given = o.last_opt && o.last_opt->count() > 0;
     const std::size_t last = last_given ? o.last : n - 1;
-    const auto outside = [&](const char* option, std::size_t frame) {
-        return failure(std::string(option) + " " + std::to_string(frame) + " is outside '" + path + "' (" +
-                       std::to_string(n) + (n == 1 ? " frame, 0)" : " frames, 0.." + std::to_string(n - 1) + ")"));
-    };
-    if (o.first >= n) throw outside("--first", o.first);
-    if (last >= n) throw outside("--last", last);
+    check_frame_in(o.first, n, path, "--first");
+    check_frame_in(last, n, path, "--last");
     if (o.first > last)
         throw CLI::ValidationError("--first", "frame " + std::to_string(o.first) + " is after --last " + std::to_string(last));
 

@@ -293,6 +293,10 @@ void write_png(const std::string& path, int width, int height, int channels, con
 // Motion for the symmetry subcommands (symmetry, playback)
 // ---------------------------------------------------------------------------
 
+/// Throws failure "OPTION FRAME is outside 'PATH' (N frames, 0..N-1)"
+/// unless `frame` is one of the `frames` frames of the clip read from `path`.
+void check_frame_in(std::size_t frame, std::size_t frames, const std::string& path, std::string_view option);
+
 /// The part of a clip to analyse and the up axis to analyse it with.
 struct frame_range_options {
     std::size_t first = 0, last = 0;
