@@ -48,14 +48,6 @@ vec3 parse_vec3(const std::string& text, const char* option) {
     return v;
 }
 
-/// Body scale: the diagonal of the first frame's joint bounding box.
-double body_scale(const clip_t& c) {
-    const auto pose = anima::forward_kinematics(c, 0);
-    Eigen::AlignedBox3d box;
-    for (const auto& p : pose.positions) box.extend(p);
-    return std::max(box.diagonal().norm(), 1e-9);
-}
-
 using frame_targets = std::map<std::size_t, std::vector<std::pair<std::string, vec3>>>;
 
 /// A frame number: digits only (no sign, no spaces), at most max_frames.
@@ -219,7 +211,8 @@ void run_ik(const ik_options& o) {
     const anima::stopwatch timer;
     const clip_t c = load_clip(o.input);
     const auto& sk = c.skeleton();
-    const double scale = body_scale(c);
+    // Body scale: the diagonal of the first frame's joint bounding box.
+    const double scale = std::max(anima::pose_diagonal(c, 0), 1e-9);
     solver_setup s{anima::kinematic_tree<double>(sk), {}, nullptr};
     const bool learned = o.solver == "learned";
     if (learned) s.tree.set_fixed(0);

@@ -1,6 +1,8 @@
 // Stick figures: the view bases are right-handed and put the figure's left
-// where each view says, and the projected bones match coordinates worked
-// out by hand for a small skeleton posed by hand.
+// where each view says, and the projected bones (and the pose's bounding
+// diagonal) match values worked out by hand for a small skeleton posed by
+// hand.
+#include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/stick_figure.hpp>
 
 #include <doctest/doctest.h>
@@ -45,28 +47,35 @@ TEST_CASE_TEMPLATE("make_stick_view: front shows the left on the right, side fac
     CHECK_THROWS_AS(anima::parse_stick_view("back"), anima::invalid_argument);
 }
 
-TEST_CASE_TEMPLATE("project_stick_figure matches hand-worked coordinates", T, float, double) {
+/// Hips at (1, 2, 3) in frame 1 (the origin in frame 0); LeftLeg 1 below
+/// and 0.5 to the left (+X), with an End Site 1 further down; RightArm 1 to
+/// the right (-X), no End Site. Frame 1: the hips turn 90 degrees about +Y,
+/// +X going to -Z.
+template <class T>
+anima::clip<T> posed_clip() {
     using vec3 = Eigen::Matrix<T, 3, 1>;
-    // Hips at (1, 2, 3); LeftLeg 1 below and 0.5 to the left (+X), with an
-    // End Site 1 further down; RightArm 1 to the right (-X), no End Site.
-    anima::skeleton<T> sk;
     using anima::channel;
+    anima::skeleton<T> sk;
     sk.add_joint("Hips", -1, vec3(0, 0, 0),
                  {channel::x_position, channel::y_position, channel::z_position, channel::z_rotation,
                   channel::x_rotation, channel::y_rotation});
     sk.add_joint("LeftLeg", 0, vec3(T(0.5), -1, 0));
     sk.set_end_site(1, vec3(0, -1, 0));
     sk.add_joint("RightArm", 0, vec3(-1, 0, 0));
-    const auto bones = anima::stick_bones(sk);
+    anima::clip<T> c(sk, 2, T(1) / 30);
+    c.set_translation(1, 0, vec3(1, 2, 3));
+    c.set_rotation(1, 0, Eigen::Quaternion<T>(Eigen::AngleAxis<T>(T(std::acos(-1.0) / 2), vec3::UnitY())));
+    return c;
+}
+
+TEST_CASE_TEMPLATE("project_stick_figure matches hand-worked coordinates", T, float, double) {
+    const anima::clip<T> c = posed_clip<T>();
+    const auto bones = anima::stick_bones(c.skeleton());
     REQUIRE(bones.size() == 3);
     CHECK((bones[0].from == 0 && bones[0].to == 1 && !bones[0].end_site && bones[0].side == body_side::left));
     CHECK((bones[1].from == 1 && bones[1].to == 1 && bones[1].end_site && bones[1].side == body_side::left));
     CHECK((bones[2].from == 0 && bones[2].to == 2 && bones[2].side == body_side::right));
 
-    anima::clip<T> c(sk, 2, T(1) / 30);
-    c.set_translation(1, 0, vec3(1, 2, 3));
-    // Frame 1: the hips turn 90 degrees about +Y: +X goes to -Z.
-    c.set_rotation(1, 0, Eigen::Quaternion<T>(Eigen::AngleAxis<T>(T(std::acos(-1.0) / 2), vec3::UnitY())));
     const signed_axis up{anima::axis::y, 1}, left{anima::axis::x, 1};
     const auto front = anima::make_stick_view<T>(anima::stick_view::front, up, left);
     const auto s = anima::project_stick_figure(c, 1, bones, front);
@@ -95,6 +104,19 @@ TEST_CASE_TEMPLATE("project_stick_figure matches hand-worked coordinates", T, fl
     CHECK_THROWS_AS(anima::project_stick_figure(c, 2, bones, front), anima::invalid_argument);
     CHECK_THROWS_AS(anima::project_stick_figure(c, 0, {anima::stick_bone{0, 3, false, body_side::centre}}, front),
                     anima::invalid_argument);
+}
+
+TEST_CASE_TEMPLATE("pose_diagonal is the diagonal of the box the joints span", T, float, double) {
+    anima::clip<T> c = posed_clip<T>();
+    // Frame 0 (rest pose): [-1, 0.5] x [-1, 0] x [0, 0]. Frame 1:
+    // [1, 1] x [1, 2] x [2.5, 4]; the End Site at (1, 0, 2.5) does not count.
+    CHECK(anima::pose_diagonal(c, 0) == doctest::Approx(std::sqrt(2.25 + 1)).epsilon(1e-5));
+    CHECK(anima::pose_diagonal(c, 1) == doctest::Approx(std::sqrt(1 + 2.25)).epsilon(1e-5));
+    // Unturned at (1, 5, 3): (1, 5, 3), (1.5, 4, 3), (0, 5, 3).
+    c.set_translation(1, 0, Eigen::Matrix<T, 3, 1>(1, 5, 3));
+    c.set_rotation(1, 0, Eigen::Quaternion<T>::Identity());
+    CHECK(anima::pose_diagonal(c, 1) == doctest::Approx(std::sqrt(2.25 + 1)).epsilon(1e-5));
+    CHECK_THROWS_AS(anima::pose_diagonal(c, 2), anima::invalid_argument);
 }
 
 }  // namespace

@@ -88,6 +88,18 @@ T lowest_along(const clip<T>& c, const Eigen::Matrix<T, 3, 1>& direction) {
     return lowest;
 }
 
+/// The length of the diagonal of the box the joints of frame `f` span (End
+/// Sites not included): a measure of the pose's size for relative
+/// tolerances. 0 for a single joint. Throws anima::invalid_argument for a
+/// frame outside the clip.
+template <class T>
+T pose_diagonal(const clip<T>& c, std::size_t f) {
+    const global_pose<T> pose = forward_kinematics(c, f);
+    Eigen::AlignedBox<T, 3> box;
+    for (const auto& p : pose.positions) box.extend(p);
+    return pose.positions.empty() ? T(0) : box.diagonal().norm();
+}
+
 /// Global joint positions over the whole clip: a frames x (3 * joints) matrix,
 /// row f = (x0, y0, z0, x1, y1, z1, ...) of frame f.
 template <class T>
