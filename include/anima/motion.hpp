@@ -1,5 +1,6 @@
 // The skeleton and clip model: hierarchy, clips, forward kinematics,
-// velocities, the frames x DOF view, figure guesses and reorientation.
+// velocities, the frames x DOF view and its moving DOFs, figure guesses,
+// reorientation, and stick-figure projection.
 #pragma once
 
 #include <anima/motion/body_sides.hpp>
