@@ -256,6 +256,37 @@ TEST_CASE_TEMPLATE("plant_feet: short clips and bad input", T, float, double) {
     }
 }
 
+TEST_CASE_TEMPLATE("plant_feet at a frame time too short to tell a stance from a step refuses, naming it", T, float,
+                   double) {
+    // The swayed walk's first 180 frames: at a frame time whose +-1/60 s
+    // foot-speed window covers the clip, every point's speed is its mean
+    // over the clip, nothing is slower than a step, and plant_feet planted
+    // nothing without a word (frames 0 from 1e-4 s down).
+    auto c = swayed_walk<T>(T(1)).slice(0, 180);
+    c.set_frame_time(T(2e-4));  // the window (+-83 frames) still fits: planted
+    const auto fits = anima::plant_feet(c);
+    CHECK(fits.runs > 0);
+    CHECK(fits.frames > 0);
+    CHECK(fits.largest_correction > T(0.5));
+    for (const T ft : {T(1e-4), T(1e-5), T(1e-7), T(1e-30)}) {
+        CAPTURE(ft);
+        c.set_frame_time(ft);
+        const auto message = anima_test::invalid_argument_message([&] { (void)anima::plant_feet(c); });
+        CHECK(anima_test::contains(message, "anima::plant_feet: the clip's frame time must be"));
+        CHECK(anima_test::contains(message, "got " + anima::detail::argument_text(ft)));
+        // plant_feet_in_ranges (textures, transitions) as well.
+        CHECK_THROWS_AS(anima::plant_feet_in_ranges(c, {{0, 179}}, anima::plant_feet_params<T>{}, {}),
+                        anima::invalid_argument);
+    }
+    // A clip of a few frames at a capture rate is short, not mistimed: it is
+    // planted as before.
+    const auto short_clip = swayed_walk<T>(T(1)).slice(0, 7);
+    const auto planted = anima::plant_feet(short_clip);
+    CHECK(planted.planted.frames() == 7);
+    for (std::size_t f = 0; f < 7; ++f)
+        for (std::size_t j = 0; j < short_clip.joints(); ++j) REQUIRE(planted.planted.rotation(f, j).coeffs().allFinite());
+}
+
 TEST_CASE_TEMPLATE("plant_feet finding its own contacts: the result with find_contacts' contacts, bit for bit", T, float,
                    double) {
     // The overload without contacts measures the feet once, for the contacts

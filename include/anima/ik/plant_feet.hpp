@@ -250,6 +250,30 @@ void check_plant_feet(const clip<T>& c, const contact_set<T>& contacts, const pl
     }
 }
 
+/// A clip whose measured frames lie within one foot-speed window (+-1/60 s
+/// around the middle frame reaches both ends) cannot tell a stance from a
+/// step: every point's speed is its mean over the clip. When a run would be
+/// planted, that is an error (a frame time in the wrong unit, most often),
+/// not a silent "nothing to plant". A clip of fewer than 8 measured frames
+/// is short at any frame time and passes as before: there the window says
+/// more about the clip's length than about its frame time.
+template <class T>
+void check_speed_window(const clip<T>& c, const contact_set<T>& contacts, const std::vector<frame_interval>& ranges) {
+    const std::size_t measured = c.frames() - std::min(c.frames(), contacts.lead_in);
+    const std::size_t half = speed_half_window(c.frame_time());
+    if (measured < 8 || 2 * half < measured - 1) return;
+    for (const auto& foot : contacts.feet) {
+        if (!has_leg(c.skeleton(), foot.joint)) continue;
+        for (const auto& run : foot.contacts)
+            if (touches(run, ranges))
+                fail_argument("anima::plant_feet", "the clip's frame time",
+                              "long enough that its " + std::to_string(measured) +
+                                  " measured frames outlast the +-1/60 s foot-speed window (a stance cannot be "
+                                  "told from a step within one; is the frame time in seconds?)",
+                              c.frame_time());
+    }
+}
+
 /// plant_feet on checked arguments. `given`: measure_feet of the contacts'
 /// feet from their lead-in on, when the caller has it (find_contacts
 /// measures them too), else null.
@@ -261,6 +285,7 @@ plant_feet_result<T> plant_feet_checked(const clip<T>& c, const contact_set<T>& 
     const std::size_t frames = c.frames();
     plant_feet_result<T> out{c, contacts, 0, 0, T(0), T(0)};
     if (frames < 2 || contacts.feet.empty()) return out;
+    check_speed_window(c, contacts, params.ranges);
 
     // Recorded world positions of every joint and End Site, and orientations.
     std::vector<std::vector<vector3>> points(frames);
@@ -363,7 +388,9 @@ plant_feet_result<T> plant_feet_checked(const clip<T>& c, const contact_set<T>& 
 /// this clip, or built by the caller). A foot too close to the root to have
 /// a leg (it needs a parent and a grandparent) is left as it is. Throws
 /// anima::invalid_argument for contacts of another clip (frame count or
-/// joints) or bad parameters.
+/// joints) or bad parameters, and for a clip of 8 or more frames whose
+/// frame time puts them all within one +-1/60 s foot-speed window, where a
+/// stance cannot be told from a step (a frame time in the wrong unit).
 template <class T>
 plant_feet_result<T> plant_feet(const clip<T>& c, const contact_set<T>& contacts, const plant_feet_params<T>& params) {
     const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers

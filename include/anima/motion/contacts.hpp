@@ -255,6 +255,15 @@ struct foot_points {
     std::vector<T> rise, speed;
 };
 
+/// Foot speeds are central differences over +-1/60 s, this many frames
+/// each side (at least 1): a difference over one frame at 120 Hz would turn
+/// millimetre marker noise into centimetres per second.
+template <class T>
+std::size_t speed_half_window(T frame_time) {
+    const double frames = std::round(1.0 / (60.0 * static_cast<double>(frame_time)));
+    return frames >= 1.0 ? (frames < 1e15 ? static_cast<std::size_t>(frames) : std::size_t(1e15)) : 1;
+}
+
 template <class T>
 std::vector<foot_points<T>> measure_feet(const clip<T>& c, const std::vector<std::size_t>& feet, std::size_t first,
                                          const contact_set<T>& out, const contact_params<T>& params) {
@@ -264,10 +273,7 @@ std::vector<foot_points<T>> measure_feet(const clip<T>& c, const std::vector<std
     const auto axis = static_cast<Eigen::Index>(out.up.axis);
     const T sign = out.up.sign < 0 ? T(-1) : T(1), h = out.body_height;
     const auto window = static_cast<std::size_t>(std::ceil(params.standing_window_seconds / c.frame_time()));
-    // Speeds over +-1/60 s: a central difference over one frame at 120 Hz
-    // would turn millimetre marker noise into centimetres per second.
-    const auto half = std::max<std::size_t>(
-        1, static_cast<std::size_t>(std::lround(1.0 / (60.0 * static_cast<double>(c.frame_time())))));
+    const std::size_t half = speed_half_window(c.frame_time());
     std::vector<std::vector<foot_point>> points(feet.size());
     for (std::size_t i = 0; i < feet.size(); ++i) points[i] = foot_points_of(sk, feet[i]);
     std::vector<std::vector<vector3>> where(feet.size());  // [foot][frame * points + p]
