@@ -645,7 +645,7 @@ TEST_CASE_TEMPLATE("a spacing whose 1 / h^2 overflows or vanishes is refused, na
                                    "anima::laplacian: " + named));
         const auto dst = [&] { (void)anima::solve_poisson_dst(anima::make_poisson_problem(g, ones)); };
         CHECK(anima_test::contains(anima_test::invalid_argument_message(dst),
-                                   "not finite and non-zero in this precision"));
+                                   "not finite and normal"));
         const auto mg = [&] { anima::multigrid_poisson<T>{g}; };
         CHECK(anima_test::contains(anima_test::invalid_argument_message(mg), named));
     }
@@ -654,4 +654,65 @@ TEST_CASE_TEMPLATE("a spacing whose 1 / h^2 overflows or vanishes is refused, na
     const auto lap = anima::laplacian(anima::make_poisson_grid<T>(8, 8, boundary::dirichlet, fine), ones);
     CHECK(lap.allFinite());
     CHECK(lap.cwiseAbs().maxCoeff() > T(0));
+}
+
+TEST_CASE_TEMPLATE("a spacing whose 1 / h^2 is subnormal is refused up front, naming the spacing", T, float, double) {
+    // float h = 1e19: 1 / h^2 = 1e-38, below the smallest normal float. It
+    // was accepted and the solvers failed later with "the right-hand side
+    // is too large for the scalar type", for a right-hand side of 1e-20.
+    using mat = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const bool is_float = std::is_same_v<T, float>;
+    const T h = static_cast<T>(is_float ? 1e19 : 1e154);
+    const mat small = mat::Constant(16, 16, static_cast<T>(is_float ? 1e-20 : 1e-300));
+    const auto g = anima::make_poisson_grid<T>(16, 16, boundary::dirichlet, h);
+    const std::string named = "grid spacing hy = " + anima::detail::argument_text(h) + " has 1 / hy^2 = ";
+    const auto p = anima::make_poisson_problem(g, small);
+    CHECK(anima_test::contains(
+        anima_test::invalid_argument_message([&] { (void)anima::solve_poisson_multigrid(p); }), named));
+    CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)anima::solve_poisson_dst(p); }), named));
+    CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { anima::cg_poisson<T>{p}; }), named));
+    CHECK(anima_test::contains(anima_test::invalid_argument_message([&] { (void)anima::laplacian(g, small); }),
+                               "not finite and normal"));
+    // The largest spacing whose 1 / h^2 is normal is accepted, and the
+    // transform solver (no coarse levels) solves with it.
+    const T largest = T(1) / std::sqrt(std::numeric_limits<T>::min()) * T(0.99);
+    const auto ok = anima::solve_poisson_dst(anima::make_poisson_problem(
+        anima::make_poisson_grid<T>(16, 16, boundary::dirichlet, largest), small));
+    CHECK(ok.u.allFinite());
+    CHECK(ok.relative_residual <= tolerance<T>(1e-12, 1e-4));
+}
+
+TEST_CASE_TEMPLATE("relative_residual of a homogeneous problem (b = 0) is the absolute residual, not infinity", T,
+                   float, double) {
+    // f = 0 with zero boundary data: the folded b is zero and the solution is
+    // 0. The residual used to be ||A u|| / 0 = inf for any u but 0.
+    for (boundary sides : {boundary::dirichlet, boundary::neumann}) {
+        CAPTURE(anima::to_string(sides));
+        anima::poisson_problem<T> p;
+        p.grid = anima::make_poisson_grid<T>(12, 9, sides, T(0.5));
+        p.rhs = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>::Zero(12, 9);
+        using matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+        CHECK(anima::relative_residual(p, matrix::Zero(12, 9)) == T(0));
+        matrix u(12, 9);
+        for (Eigen::Index j = 0; j < 9; ++j)
+            for (Eigen::Index i = 0; i < 12; ++i) u(i, j) = T(std::sin(0.7 * double(i) + 0.3 * double(j * j)));
+        const T r = anima::relative_residual(p, u);
+        CHECK(std::isfinite(r));
+        CHECK(r > T(0));
+        // ||A u||: the Laplacian of u (zero data outside) on every cell.
+        const auto lap = anima::laplacian(p.grid, u);
+        CHECK(r == doctest::Approx(double(lap.template cast<double>().norm())).epsilon(1e-4));
+        CHECK(anima::relative_residual(p, (T(4) * u).eval()) == doctest::Approx(double(T(4) * r)).epsilon(1e-4));
+        // The solvers return u = 0 with a residual of 0: converged.
+        const auto mg = anima::solve_poisson_multigrid(p);
+        CHECK(mg.converged);
+        CHECK(mg.relative_residual == T(0));
+        CHECK(mg.u.isZero(0));
+        const auto fast = anima::solve_poisson_dst(p);
+        CHECK(fast.relative_residual == T(0));
+        CHECK(fast.u.isZero(0));
+        const auto cg = anima::cg_poisson<T>(p).solve();
+        CHECK(cg.converged);
+        CHECK(cg.relative_residual == T(0));
+    }
 }

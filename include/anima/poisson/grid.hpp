@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -101,13 +102,17 @@ void check_poisson_grid(const poisson_grid<T>& g, const std::string& who) {
                                detail::argument_text(g.hy) + ", hx = " +
                                detail::argument_text(g.hx));
     // The operator's coefficients are 1 / h^2: h = 1e-20 in float overflows
-    // them (the Laplacian came back NaN), h = 1e25 underflows them to 0.
+    // them (the Laplacian came back NaN), h = 1e25 underflows them to 0, and
+    // h = 1e19 makes them subnormal (1e-38): accepted, the solvers failed
+    // later with "the right-hand side is too large". A normal number only.
     const auto check_inverse_square = [&](const char* name, T h) {
         const T c = T(1) / (h * h);
-        if (!(c > T(0)) || !std::isfinite(c))
+        if (!(c >= std::numeric_limits<T>::min()) || !std::isfinite(c))
             throw invalid_argument(who + ": grid spacing " + name + " = " + detail::argument_text(h) +
                                    " has 1 / " + name + "^2 = " + detail::argument_text(c) +
-                                   ", not finite and non-zero in this precision");
+                                   ", not finite and normal (at least " +
+                                   detail::argument_text(std::numeric_limits<T>::min()) +
+                                   ") in this precision: measure the grid in a larger or smaller unit");
     };
     check_inverse_square("hy", g.hy);
     check_inverse_square("hx", g.hx);

@@ -53,15 +53,16 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> apply_operator(const poisson_gr
     return y;
 }
 
-/// ||b - A x|| / ||b|| with b folded from the problem; 0 when b = 0.
+/// ||b - A x|| / ||b|| with b folded from the problem; when b = 0 (a
+/// homogeneous problem, whose solution is 0) the absolute residual ||A x||:
+/// 0 for x = 0, never the infinity of a division by zero.
 /// stableNorm: the plain sum of squares overflows for a float b of 1e18 on
 /// a 100 x 100 grid (NaN) and underflows to 0 for one of 1e-25.
 template <class T, class Derived>
 T relative_residual_of(const poisson_problem<T>& p, const folded_rhs<T>& f, const Eigen::MatrixBase<Derived>& u) {
     const T bn = f.b.stableNorm();
     const T rn = (f.b - apply_operator(p.grid, u)).stableNorm();
-    if (bn == T(0)) return rn == T(0) ? T(0) : T(INFINITY);
-    return rn / bn;
+    return bn == T(0) ? rn : rn / bn;
 }
 
 }  // namespace detail
@@ -83,7 +84,10 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> laplacian(const poisson_grid<T>
 }
 
 /// The relative residual ||b - A x|| / ||b|| of u (its unknown cells) for the
-/// problem's discrete system, the measure every solver stops on.
+/// problem's discrete system, the measure every solver stops on. When the
+/// folded right-hand side b is zero it is the absolute residual ||A x||
+/// (0 when u is zero on the unknowns too): the solvers return u = 0 there,
+/// with a residual of 0.
 template <class T, class Derived>
 T relative_residual(const poisson_problem<T>& p, const Eigen::MatrixBase<Derived>& u) {
     detail::check_poisson_problem(p, "anima::relative_residual");

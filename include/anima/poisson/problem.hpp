@@ -57,7 +57,7 @@ template <class T>
 struct poisson_result {
     Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> u;  ///< the whole grid; fixed cells keep their values
     int iterations = 0;        ///< multigrid cycles on the finest grid (0 for a direct solve)
-    T relative_residual = 0;   ///< ||b - A x|| / ||b|| of the discrete system (0 when b = 0)
+    T relative_residual = 0;   ///< ||b - A x|| / ||b|| of the discrete system (||A x|| when b = 0)
     bool converged = false;    ///< relative_residual reached the tolerance
     T removed_mean = 0;        ///< pure Neumann only: the mean of f that was subtracted to make it solvable
     std::vector<T> residual_history;  ///< relative residual after each cycle (multigrid)
