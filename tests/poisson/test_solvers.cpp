@@ -716,3 +716,40 @@ TEST_CASE_TEMPLATE("relative_residual of a homogeneous problem (b = 0) is the ab
         CHECK(cg.relative_residual == T(0));
     }
 }
+
+TEST_CASE_TEMPLATE("cg_poisson is scale-invariant: b and b * 2^-k give the same iterations, proportional solutions", T,
+                   float, double) {
+    // Eigen's CG stops on ||r||^2 < tol^2 ||b||^2 floored at the smallest
+    // normal number: for a float b of 1e-18 the floor ruled and CG stopped
+    // at a relative residual of about 1e-2 (not converged), while b itself
+    // converged. CG now runs on b scaled to a largest entry in [0.5, 1).
+    using mat = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const bool is_float = std::is_same_v<T, float>;
+    for (const int k : {is_float ? 60 : 100, is_float ? 100 : 500}) {
+        for (boundary sides : {boundary::dirichlet, boundary::neumann}) {
+            for (auto pre : {anima::cg_preconditioner::diagonal, anima::cg_preconditioner::incomplete_cholesky}) {
+                CAPTURE(k);
+                CAPTURE(anima::to_string(sides));
+                CAPTURE(anima::to_string(pre));
+                mat rhs(24, 19);
+                for (Eigen::Index j = 0; j < 19; ++j)
+                    for (Eigen::Index i = 0; i < 24; ++i)
+                        rhs(i, j) = T(std::sin(0.37 * double(i * j) + 0.5 * double(i)) + 0.25);
+                const auto g = anima::make_poisson_grid<T>(24, 19, sides, T(0.125));
+                const auto big = anima::make_poisson_problem(g, rhs);
+                const auto small = anima::make_poisson_problem(g, rhs.unaryExpr([k](T v) { return std::ldexp(v, -k); }));
+                typename anima::cg_poisson<T>::params prm;
+                prm.preconditioner = pre;
+                const auto rb = anima::cg_poisson<T>(big, prm).solve();
+                const auto rs = anima::cg_poisson<T>(small, prm).solve();
+                REQUIRE(rb.converged);
+                CHECK(rs.converged);
+                CHECK(rs.iterations == rb.iterations);
+                CHECK(rs.relative_residual <= anima::default_poisson_tolerance<T>());
+                const mat scaled_back = rs.u.unaryExpr([k](T v) { return std::ldexp(v, k); });
+                CHECK((scaled_back - rb.u).cwiseAbs().maxCoeff() <=
+                      tolerance<T>(1e-12, 1e-5) * rb.u.cwiseAbs().maxCoeff());
+            }
+        }
+    }
+}

@@ -61,12 +61,21 @@ public:
 
     /// Solves the system assembled at construction. The relative residual is
     /// measured on the grid (anima::relative_residual), not taken from CG's
-    /// own estimate; converged means it is within the tolerance.
+    /// own estimate; converged means it is within the tolerance. CG runs on
+    /// b scaled by a power of two to a largest entry in [0.5, 1) (exact):
+    /// Eigen's squared norms underflowed for a tiny b (a float b of 1e-18
+    /// stopped at a relative residual of 1e-2, its stopping threshold
+    /// floored at the smallest normal number) and overflow for a huge one,
+    /// so b and b * 2^-k now give the same iterations and proportional
+    /// solutions.
     poisson_result<T> solve() const {
         Eigen::Matrix<T, Eigen::Dynamic, 1> x;
         Eigen::Index iterations = 0;
+        int e = 0;
+        if (system_.b.size()) std::frexp(system_.b.cwiseAbs().maxCoeff(), &e);
+        const Eigen::Matrix<T, Eigen::Dynamic, 1> scaled = system_.b.unaryExpr([e](T v) { return std::ldexp(v, -e); });
         const auto run = [&](const auto& cg) {
-            x = cg.solve(system_.b);
+            x = cg.solve(scaled).unaryExpr([e](T v) { return std::ldexp(v, e); });
             iterations = cg.iterations();
         };
         if (prm_.preconditioner == cg_preconditioner::incomplete_cholesky) run(ic_);
