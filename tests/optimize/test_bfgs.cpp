@@ -207,3 +207,76 @@ TEST_CASE_TEMPLATE("numeric_gradient and numeric_jacobian match analytic derivat
     CHECK((jacobian - exact).norm() <= tolerance<T>(1e-8, 2e-3) * exact.norm());
     CHECK_THROWS_AS(anima::numeric_jacobian<T>(residuals, x, T(0)), anima::invalid_argument);
 }
+
+namespace {
+
+/// 2^k * sum w_i (x_i - c_i)^2 / 2 with w_i = i + 1, c_i = 0.7 sin(i + 1) / w_i:
+/// from x = 0 the largest gradient component (2^k times 0.69) has exponent
+/// k, so bfgs_minimize divides by exactly 2^k.
+template <class T>
+struct scaled_quadratic {
+    int k = 0;
+    T operator()(const vector_x<T>& x, vector_x<T>& g) const {
+        T f = T(0);
+        for (Eigen::Index i = 0; i < x.size(); ++i) {
+            const T w = T(i + 1), c = T(0.7 * std::sin(double(i + 1))) / w, d = x[i] - c;
+            f += std::ldexp(w * d * d / T(2), k);
+            g[i] = std::ldexp(w * d, k);
+        }
+        return f;
+    }
+};
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("bfgs_minimize with a gradient whose squared norm overflows: the same steps as the scaled problem", T,
+                   float, double) {
+    // |g|^2 = inf for a finite gradient of 2^70 (float) or 2^530 (double):
+    // every slope was infinite, and BFGS stalled at the start (1 iteration,
+    // status stalled, x = 0). It now minimises f / 2^k.
+    const int k = std::is_same_v<T, float> ? 70 : 530;
+    for (const int memory : {0, 4}) {
+        CAPTURE(memory);
+        anima::bfgs_params<T> params;
+        params.memory = memory;
+        std::vector<T> seen;
+        params.on_iteration = [&](int, T value) {
+            seen.push_back(value);
+            return true;
+        };
+        const vector_x<T> x0 = vector_x<T>::Zero(10);
+        vector_x<T> g0(10);
+        (void)scaled_quadratic<T>{k}(x0, g0);
+        REQUIRE(g0.allFinite());
+        REQUIRE_FALSE(std::isfinite(g0.squaredNorm()));
+        const auto huge = anima::bfgs_minimize<T>(scaled_quadratic<T>{k}, x0, params);
+        seen.clear();
+        const auto plain = anima::bfgs_minimize<T>(scaled_quadratic<T>{0}, x0, params);
+        const std::vector<T> seen_plain = seen;
+        CHECK(plain.status == anima::optimize_status::converged);
+        CHECK(huge.status == anima::optimize_status::converged);
+        CHECK(huge.iterations == plain.iterations);
+        CHECK(huge.evaluations == plain.evaluations);
+        CHECK(huge.x == plain.x);  // exact: the division is by a power of two
+        CHECK(huge.value == std::ldexp(plain.value, k));
+        REQUIRE(huge.history.size() == plain.history.size());
+        for (std::size_t i = 0; i < huge.history.size(); ++i) CHECK(huge.history[i] == std::ldexp(plain.history[i], k));
+        for (Eigen::Index i = 0; i < 10; ++i)
+            CHECK(std::abs(huge.x[i] - T(0.7 * std::sin(double(i + 1))) / T(i + 1)) < tolerance<T>(1e-6, 1e-3));
+    }
+}
+
+TEST_CASE_TEMPLATE("bfgs_minimize names the iterate whose gradient's squared norm overflows", T, float, double) {
+    // f = (x - 2)^2 + y C x^2: from (0, 0) the gradient is (-4, 0); the line
+    // search along x stops near x = 2, where df/dy = 4 C has an infinite
+    // square. The iteration used to stall there without a word.
+    const T C = std::is_same_v<T, float> ? T(1e30) : T(1e200);
+    const auto f = [C](const vector_x<T>& x, vector_x<T>& g) {
+        g[0] = T(2) * (x[0] - T(2)) + T(2) * C * x[1] * x[0];
+        g[1] = C * x[0] * x[0];
+        return (x[0] - T(2)) * (x[0] - T(2)) + x[1] * C * x[0] * x[0];
+    };
+    CHECK_THROWS_WITH_AS(anima::bfgs_minimize<T>(f, vector_x<T>::Zero(2)),
+                         doctest::Contains("anima::bfgs_minimize: at iterate 1 the gradient's squared norm overflows"),
+                         anima::error);
+}

@@ -10,6 +10,7 @@
 #include <limits>
 #include <string>
 
+#include <anima/core/check_argument.hpp>
 #include <anima/optimize/line_search.hpp>
 #include <anima/optimize/result.hpp>
 
@@ -74,27 +75,39 @@ struct lbfgs_memory {
 
 }  // namespace detail
 
-/// Minimises f from x0. F: T(const vector_x<T>& x, vector_x<T>& gradient)
-/// returns f(x) and writes its gradient (already sized like x).
-/// Throws invalid_argument for an empty or non-finite x0 or bad parameters,
-/// anima::error if f or its gradient is not finite at x0.
-template <class T, class F>
-optimize_result<T> bfgs_minimize(F&& f, vector_x<T> x0, const bfgs_params<T>& params = {}) {
-    detail::check_start(x0, "anima::bfgs_minimize");
-    if (params.max_iterations < 0 || params.memory < 0 || !(params.gradient_tolerance >= T(0)) ||
-        !(params.value_tolerance >= T(0))) {
-        throw invalid_argument("bfgs_minimize: max_iterations, memory and tolerances must not be negative");
-    }
-    const Eigen::Index n = x0.size();
-    optimize_result<T> result;
-    result.x = std::move(x0);
-    vector_x<T> gradient(n);
-    result.value = f(static_cast<const vector_x<T>&>(result.x), gradient);
-    result.evaluations = 1;
-    if (!std::isfinite(result.value) || gradient.size() != n || !gradient.allFinite()) {
-        throw error("bfgs_minimize: the objective or its gradient is not finite at the start point");
-    }
+namespace detail {
 
+/// The gradient at an iterate whose squared norm overflows (|g| = 1e200 in
+/// double) makes every slope and curvature infinite: the line search finds
+/// no step and BFGS stalls. `scale`: the power of two the objective was
+/// divided by.
+template <class T>
+void check_gradient_norm(const vector_x<T>& gradient, int iterate, int scale) {
+    if (std::isfinite(gradient.squaredNorm())) return;
+    const double largest = std::ldexp(static_cast<double>(gradient.template lpNorm<Eigen::Infinity>()), scale);
+    throw error("anima::bfgs_minimize: at iterate " + std::to_string(iterate) +
+                " the gradient's squared norm overflows the scalar type (largest component " +
+                argument_text(largest) + "); scale the objective down");
+}
+
+/// The power of two bfgs_minimize divides the objective by: 0 unless the
+/// start's gradient has a squared norm past max / 2^16 (huge but finite,
+/// where the old iteration stalled), else the exponent of its largest
+/// component, which brings that into [0.5, 1). Exact, and no change for a
+/// gradient of ordinary size.
+template <class T>
+int bfgs_scale(const vector_x<T>& gradient) {
+    if (gradient.squaredNorm() < std::ldexp(std::numeric_limits<T>::max(), -16)) return 0;
+    int e = 0;
+    std::frexp(gradient.template lpNorm<Eigen::Infinity>(), &e);
+    return e;
+}
+
+/// The iterations of bfgs_minimize from the evaluated start in `result`
+/// and `gradient` (of the objective divided by 2^scale).
+template <class T, class F>
+void bfgs_iterate(F&& f, optimize_result<T>& result, vector_x<T>& gradient, const bfgs_params<T>& params, int scale) {
+    const Eigen::Index n = gradient.size();
     const bool dense = params.memory == 0;
     matrix_x<T> inverse_hessian;
     detail::lbfgs_memory<T> memory{{}, {}, {}, static_cast<std::size_t>(params.memory)};
@@ -112,7 +125,7 @@ optimize_result<T> bfgs_minimize(F&& f, vector_x<T> x0, const bfgs_params<T>& pa
     };
     if (gradient_small()) {
         result.status = optimize_status::converged;
-        return result;
+        return;
     }
 
     result.status = optimize_status::max_iterations;
@@ -150,6 +163,7 @@ optimize_result<T> bfgs_minimize(F&& f, vector_x<T> x0, const bfgs_params<T>& pa
         result.value = point.value;
         gradient = std::move(point.gradient);
         result.history.push_back(result.value);
+        check_gradient_norm(gradient, result.iterations, scale);
 
         // Update only with positive curvature, which keeps H positive definite.
         const T sy = s.dot(y);
@@ -178,6 +192,55 @@ optimize_result<T> bfgs_minimize(F&& f, vector_x<T> x0, const bfgs_params<T>& pa
             break;
         }
     }
+}
+
+}  // namespace detail
+
+/// Minimises f from x0. F: T(const vector_x<T>& x, vector_x<T>& gradient)
+/// returns f(x) and writes its gradient (already sized like x).
+/// Throws invalid_argument for an empty or non-finite x0 or bad parameters,
+/// anima::error if f or its gradient is not finite at x0. A huge but finite
+/// gradient (its squared norm near or past the scalar type's largest) is
+/// handled by minimising f / 2^k (exact; the values returned and passed to
+/// on_iteration are f's own, the tolerances apply to f / 2^k); one whose
+/// squared norm overflows at a later iterate throws anima::error naming
+/// the iterate, where the iteration would otherwise stall.
+template <class T, class F>
+optimize_result<T> bfgs_minimize(F&& f, vector_x<T> x0, const bfgs_params<T>& params = {}) {
+    detail::check_start(x0, "anima::bfgs_minimize");
+    if (params.max_iterations < 0 || params.memory < 0 || !(params.gradient_tolerance >= T(0)) ||
+        !(params.value_tolerance >= T(0))) {
+        throw invalid_argument("bfgs_minimize: max_iterations, memory and tolerances must not be negative");
+    }
+    const Eigen::Index n = x0.size();
+    optimize_result<T> result;
+    result.x = std::move(x0);
+    vector_x<T> gradient(n);
+    result.value = f(static_cast<const vector_x<T>&>(result.x), gradient);
+    result.evaluations = 1;
+    if (!std::isfinite(result.value) || gradient.size() != n || !gradient.allFinite()) {
+        throw error("bfgs_minimize: the objective or its gradient is not finite at the start point");
+    }
+    const int scale = detail::bfgs_scale(gradient);
+    if (scale == 0) {
+        detail::bfgs_iterate(f, result, gradient, params, 0);
+        return result;
+    }
+    const auto down = [scale](T v) { return std::ldexp(v, -scale); };
+    const auto up = [scale](T v) { return std::ldexp(v, scale); };
+    result.value = down(result.value);
+    gradient = gradient.unaryExpr(down);
+    auto scaled = [&](const vector_x<T>& x, vector_x<T>& g) {
+        const T value = f(x, g);
+        g = g.unaryExpr(down);
+        return down(value);
+    };
+    bfgs_params<T> scaled_params = params;
+    if (params.on_iteration)
+        scaled_params.on_iteration = [&](int iteration, T value) { return params.on_iteration(iteration, up(value)); };
+    detail::bfgs_iterate(scaled, result, gradient, scaled_params, scale);
+    result.value = up(result.value);
+    for (T& v : result.history) v = up(v);
     return result;
 }
 
