@@ -81,7 +81,13 @@ public:
             iy_.emplace(d ? real_transform_kind::dst1 : real_transform_kind::dct3, grid_.rows);
             scale_ = T(1) / static_cast<T>(d ? 2 * (grid_.rows + 1) : 2 * grid_.rows);
         }
-        lam_y_ = detail::laplacian_eigenvalues(grid_.rows, grid_.hy, grid_.top_bottom);
+        // The solve runs on the spacings divided by 2^spacing_exponent_ (the
+        // smaller one in [0.5, 1)): exact, and the low eigenvalues
+        // (pi / n)^2 / h^2 stay normal (float h = 4e18 on a 64-row grid made
+        // them subnormal: "the solution is not finite").
+        std::frexp(std::min(grid_.hy, grid_.hx), &spacing_exponent_);
+        hx_ = std::ldexp(grid_.hx, -spacing_exponent_);
+        lam_y_ = detail::laplacian_eigenvalues(grid_.rows, std::ldexp(grid_.hy, -spacing_exponent_), grid_.top_bottom);
     }
 
     const poisson_grid<T>& grid() const noexcept { return grid_; }
@@ -98,6 +104,8 @@ public:
         solve_rows(b);
         if (iy_) iy_->apply_columns(b);
         b *= scale_;
+        // The scaled operator is 2^2s A: its solution is u 2^-2s.
+        b = b.unaryExpr([s = 2 * spacing_exponent_](T v) { return std::ldexp(v, s); });
         if (!b.allFinite())
             throw error(who + ": the solution is not finite (the right-hand side is too large for the scalar type)");
         if (prm_.compute_residual) res.relative_residual = detail::relative_residual_of(p, folded, b);
@@ -111,7 +119,7 @@ private:
     // x, a column at a time for all k (contiguous, vectorisable).
     void solve_rows(matrix& b) const {
         const Eigen::Index ny = b.rows(), nx = b.cols();
-        const T cx = T(1) / (grid_.hx * grid_.hx);
+        const T cx = T(1) / (hx_ * hx_);
         const bool x_neu = grid_.left_right == boundary::neumann;
         // Neighbours of column j inside the grid or on a Dirichlet side.
         const auto couplings = [&](Eigen::Index j) {
@@ -169,6 +177,8 @@ private:
     std::optional<real_transform<T>> fy_, iy_;
     Eigen::Matrix<T, Eigen::Dynamic, 1> lam_y_;
     T scale_ = 1;
+    int spacing_exponent_ = 0;
+    T hx_ = 1;  ///< grid_.hx / 2^spacing_exponent_
 };
 
 /// Plans a DST solver for the problem's grid and solves it once.

@@ -131,6 +131,12 @@ private:
     poisson_grid<T> grid_;
     params prm_;
     std::vector<level> levels_;
+    // The hierarchy is built for the spacings divided by 2^spacing_exponent_
+    // (the smaller one in [0.5, 1)): exact, the same arithmetic scaled, and
+    // no coarse level's 1 / h^2 near underflow (float h = 4e18 made the
+    // scaled solution overflow, reported as "the right-hand side is too
+    // large" for a right-hand side of 1e-20). run() scales u to match.
+    int spacing_exponent_ = 0;
     detail::mg::coarse_solver<T> coarse_;
     std::vector<T> ring_;
 };
@@ -151,12 +157,13 @@ void multigrid_poisson<T>::build() {
     f.ny = grid_.rows;
     f.nx = grid_.cols;
     f.ld = f.ny + 2;
-    f.hy = grid_.hy;
-    f.hx = grid_.hx;
+    std::frexp(std::min(grid_.hy, grid_.hx), &spacing_exponent_);
+    f.hy = std::ldexp(grid_.hy, -spacing_exponent_);
+    f.hx = std::ldexp(grid_.hx, -spacing_exponent_);
     for (index i = 0; i < f.ny; ++i) f.ypos.push_back(static_cast<double>(i));
     for (index j = 0; j < f.nx; ++j) f.xpos.push_back(static_cast<double>(j));
-    f.cy = T(1) / (grid_.hy * grid_.hy);
-    f.cx = T(1) / (grid_.hx * grid_.hx);
+    f.cy = T(1) / (f.hy * f.hy);
+    f.cx = T(1) / (f.hx * f.hx);
     const auto diagonal_1d = [](index n, T c, bool neumann) {
         std::vector<T> d(at(n + 2), T(0));
         for (index i = 0; i < n; ++i) {
@@ -261,14 +268,17 @@ poisson_result<T> multigrid_poisson<T>::run(const poisson_problem<T>& p, const m
     // The cycles run on b and u scaled by 2^-e, b's largest entry in
     // [0.5, 1): the system is linear and the scaling exact, and the squared
     // norms neither underflow (a float b of 1e-25 read as zero) nor overflow.
+    // With the hierarchy's spacings divided by 2^s its operator is 2^2s A,
+    // so its solution for b 2^-e is u 2^-(e + 2s).
     int e = 0;
     if (folded.b.size()) std::frexp(folded.b.cwiseAbs().maxCoeff(), &e);
+    const int ue = e + 2 * spacing_exponent_;
     for (index j = 0; j < f.nx; ++j)
         for (index i = 0; i < f.ny; ++i) {
             const auto k = at(f.at2(i, j));
             if (!grid_.unknown(i, j)) continue;
             f.b[k] = std::ldexp(folded.b(i, j), -e);
-            if (guess) f.u[k] = std::ldexp((*guess)(i, j), -e);
+            if (guess) f.u[k] = std::ldexp((*guess)(i, j), -ue);
         }
     using column = Eigen::Matrix<T, Eigen::Dynamic, 1>;
     const T bnorm = Eigen::Map<const column>(f.b.data(), static_cast<index>(f.b.size())).norm();
@@ -311,10 +321,10 @@ poisson_result<T> multigrid_poisson<T>::run(const poisson_problem<T>& p, const m
     for (index j = 0; j < f.nx; ++j)
         for (index i = 0; i < f.ny; ++i)
             if (grid_.unknown(i, j)) {
-                res.u(i, j) = std::ldexp(f.u[at(f.at2(i, j))], e);
+                res.u(i, j) = std::ldexp(f.u[at(f.at2(i, j))], ue);
                 sum += f.u[at(f.at2(i, j))];
             }
-    if (grid_.singular()) res.u.array() -= std::ldexp(sum / static_cast<T>(grid_.cells()), e);
+    if (grid_.singular()) res.u.array() -= std::ldexp(sum / static_cast<T>(grid_.cells()), ue);
     if (!res.u.allFinite())
         throw error(who + ": the solution is not finite (the right-hand side is too large for the scalar type)");
     return res;
