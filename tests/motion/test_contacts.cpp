@@ -222,6 +222,24 @@ TEST_CASE_TEMPLATE("positions whose differences overflow the scalar type are ref
     CHECK(std::isfinite(anima::clip_speed_limits(synthetic_clip<T>()).root));
 }
 
+TEST_CASE_TEMPLATE("find_contacts: a window of more frames than a count can hold is a window over the whole clip", T,
+                   float, double) {
+    // 1e30 s at 1/120 s is 1.2e32 frames: converting that to a count was
+    // undefined behaviour (UBSan: "outside the range of representable values").
+    const auto c = synthetic_clip<T>();
+    anima::contact_params<T> whole, huge;
+    whole.standing_window_seconds = T(2) * c.frame_time() * static_cast<T>(c.frames());
+    huge.standing_window_seconds = T(1e30);
+    const auto a = anima::find_contacts(c, whole), b = anima::find_contacts(c, huge);
+    REQUIRE(a.feet.size() == b.feet.size());
+    CHECK_FALSE(a.feet[0].contacts.empty());
+    for (std::size_t i = 0; i < a.feet.size(); ++i) {
+        CHECK(a.feet[i].contacts == b.feet[i].contacts);
+        CHECK(a.feet[i].in_contact == b.feet[i].in_contact);
+    }
+    CHECK(a.airborne == b.airborne);
+}
+
 TEST_CASE("find_contacts on empty, one-frame and standing clips, and bad parameters") {
     auto c = synthetic_clip<double>();
     SUBCASE("no frames") {

@@ -304,8 +304,8 @@ plant_feet_result<T> plant_feet_checked(const clip<T>& c, const contact_set<T>& 
         return p.end_site ? points[f][p.joint] : poses[f].positions[p.joint];
     };
     const T reach = params.max_correction * contacts.body_height;
-    const auto catching = static_cast<std::size_t>(std::ceil(params.catch_seconds / c.frame_time() - T(1e-6)));
-    const auto release = static_cast<std::size_t>(std::ceil(params.release_seconds / c.frame_time() - T(1e-6)));
+    const std::size_t catching = detail::frames_spanning(params.catch_seconds, c.frame_time(), T(1e-6));
+    const std::size_t release = detail::frames_spanning(params.release_seconds, c.frame_time(), T(1e-6));
 
     // Per frame, per foot: the horizontal correction asked (empty: none).
     std::vector<std::vector<std::optional<vector3>>> correction(

@@ -258,6 +258,17 @@ struct foot_points {
 /// Foot speeds are central differences over +-1/60 s, this many frames
 /// each side (at least 1): a difference over one frame at 120 Hz would turn
 /// millimetre marker noise into centimetres per second.
+/// The frames `seconds` spans at `frame_time`, ceil(seconds / frame_time -
+/// slack), capped at 1e15 (no clip is that long) and 0 for a NaN: a tiny
+/// frame time or a huge duration must not overflow the conversion to a
+/// count (undefined behaviour).
+template <class T>
+std::size_t frames_spanning(T seconds, T frame_time, T slack = T(0)) {
+    const T frames = std::ceil(seconds / frame_time - slack);
+    if (!(frames > T(0))) return 0;
+    return frames < T(1e15) ? static_cast<std::size_t>(frames) : std::size_t(1e15);
+}
+
 template <class T>
 std::size_t speed_half_window(T frame_time) {
     const double frames = std::round(1.0 / (60.0 * static_cast<double>(frame_time)));
@@ -272,7 +283,7 @@ std::vector<foot_points<T>> measure_feet(const clip<T>& c, const std::vector<std
     const std::size_t n = c.frames() - first;
     const auto axis = static_cast<Eigen::Index>(out.up.axis);
     const T sign = out.up.sign < 0 ? T(-1) : T(1), h = out.body_height;
-    const auto window = static_cast<std::size_t>(std::ceil(params.standing_window_seconds / c.frame_time()));
+    const std::size_t window = frames_spanning(params.standing_window_seconds, c.frame_time());
     const std::size_t half = speed_half_window(c.frame_time());
     std::vector<std::vector<foot_point>> points(feet.size());
     for (std::size_t i = 0; i < feet.size(); ++i) points[i] = foot_points_of(sk, feet[i]);
@@ -387,9 +398,7 @@ contact_set<T> find_contacts_measured(const clip<T>& c, const contact_params<T>&
     const std::size_t first = params.skip_rest_pose && frames > 2 ? rest_pose_lead_in(c) : 0;
     out.lead_in = first;
     const std::size_t n = frames - first;  // the frames looked at: first..frames-1
-    const auto frames_of = [&](T seconds) {
-        return static_cast<std::size_t>(std::ceil(seconds / c.frame_time() - T(1e-6)));
-    };
+    const auto frames_of = [&](T seconds) { return detail::frames_spanning(seconds, c.frame_time(), T(1e-6)); };
     measured = detail::measure_feet(c, feet, first, out, params);
     out.fast_foot_speed = detail::fast_foot_speed(measured);
     out.speed_on = std::min(params.speed_on, std::max(params.speed_floor, params.relative_speed * out.fast_foot_speed));
