@@ -255,9 +255,6 @@ struct foot_points {
     std::vector<T> rise, speed;
 };
 
-/// Foot speeds are central differences over +-1/60 s, this many frames
-/// each side (at least 1): a difference over one frame at 120 Hz would turn
-/// millimetre marker noise into centimetres per second.
 /// The frames `seconds` spans at `frame_time`, ceil(seconds / frame_time -
 /// slack), capped at 1e15 (no clip is that long) and 0 for a NaN: a tiny
 /// frame time or a huge duration must not overflow the conversion to a
@@ -269,6 +266,9 @@ std::size_t frames_spanning(T seconds, T frame_time, T slack = T(0)) {
     return frames < T(1e15) ? static_cast<std::size_t>(frames) : std::size_t(1e15);
 }
 
+/// Foot speeds are central differences over +-1/60 s, this many frames
+/// each side (at least 1): a difference over one frame at 120 Hz would turn
+/// millimetre marker noise into centimetres per second.
 template <class T>
 std::size_t speed_half_window(T frame_time) {
     const double frames = std::round(1.0 / (60.0 * static_cast<double>(frame_time)));
