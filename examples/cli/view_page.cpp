@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -39,45 +38,22 @@ struct placement {
 };
 
 /// Every joint and End Site position of every frame, file coordinates.
-struct clip_points {
-    std::vector<std::size_t> end_of;   ///< per joint: its End Site's point, or npos
-    std::vector<vec3> points;          ///< frames x (joints + End Sites)
-    std::size_t per_frame = 0;
-};
+using clip_points = anima::clip_points<double>;
 
-clip_points collect_points(const clip_t& c) {
-    const skeleton_t& sk = c.skeleton();
-    clip_points out;
-    out.end_of.assign(sk.size(), std::string::npos);
-    std::size_t n = sk.size();
-    for (std::size_t j = 0; j < sk.size(); ++j)
-        if (sk[j].end_site) out.end_of[j] = n++;
-    out.per_frame = n;
-    out.points.reserve(n * c.frames());
-    anima::global_pose<double> pose;
-    for (std::size_t f = 0; f < c.frames(); ++f) {
-        anima::forward_kinematics(c, f, pose);
-        const std::vector<vec3> ends = anima::end_site_positions(sk, pose);
-        out.points.insert(out.points.end(), pose.positions.begin(), pose.positions.end());
-        for (std::size_t j = 0; j < sk.size(); ++j)
-            if (sk[j].end_site) out.points.push_back(ends[j]);
-    }
-    return out;
-}
-
-placement place(const clip_t& c, const clip_points& pts, std::optional<anima::signed_axis> up_given) {
+/// The page's axes are the front stick view's (the figure's left, up and
+/// front), in metres when the unit is a confident guess (else the figure is
+/// made 1.7 m tall), the lowest point of the clip on the ground.
+placement place(const clip_t& c, std::optional<anima::signed_axis> up_given) {
     const skeleton_t& sk = c.skeleton();
     placement p;
     p.up = up_given ? *up_given : anima::guess_up_axis(sk).up;
-    const vec3 up = anima::axis_vector<double>(p.up), left = anima::axis_vector<double>(anima::left_axis(sk, p.up));
+    const auto view = anima::make_stick_view<double>(anima::stick_view::front, p.up, anima::left_axis(sk, p.up));
     const anima::unit_guess units = anima::guess_units(sk, p.up);
-    // Metres when the unit is a confident guess; else the figure is made 1.7 m tall.
     const double scale = units.confident ? units.metres_per_unit : units.height > 0 ? 1.7 / units.height : 1.0;
-    p.basis.row(0) = left.transpose() * scale;
-    p.basis.row(1) = up.transpose() * scale;
-    p.basis.row(2) = left.cross(up).transpose() * scale;
-    double lowest = std::numeric_limits<double>::infinity();
-    for (const vec3& q : pts.points) lowest = std::min(lowest, (p.basis * q).y());
+    p.basis.row(0) = view.right.transpose() * scale;
+    p.basis.row(1) = view.up.transpose() * scale;
+    p.basis.row(2) = view.toward.transpose() * scale;
+    const double lowest = anima::lowest_along(c, view.up) * scale;
     p.ground = std::isfinite(lowest) ? lowest : 0.0;
     return p;
 }
@@ -91,7 +67,7 @@ json point_json(const vec3& q) { return json::array({mm(q.x()), mm(q.y()), mm(q.
 /// drawn as the foot.
 std::vector<std::size_t> foot_points(const skeleton_t& sk, const clip_points& pts, std::size_t joint) {
     std::vector<std::size_t> out;
-    for (const auto& p : anima::detail::foot_points_of(sk, joint)) out.push_back(p.end_site ? pts.end_of[p.joint] : p.joint);
+    for (const auto& p : anima::detail::foot_points_of(sk, joint)) out.push_back(p.end_site ? pts.end_site_point[p.joint] : p.joint);
     return out;
 }
 
@@ -115,7 +91,7 @@ json contacts_json(const clip_t& c, const clip_points& pts, anima::signed_axis u
 json clip_json(const view_clip& v, const clip_points& pts, const placement& p) {
     json bones = json::array();
     for (const anima::stick_bone& b : anima::stick_bones(v.motion.skeleton()))
-        bones.push_back({b.from, b.end_site ? pts.end_of[b.to] : b.to, static_cast<int>(b.side)});
+        bones.push_back({b.from, b.end_site ? pts.end_site_point[b.to] : b.to, static_cast<int>(b.side)});
     json positions = json::array();
     for (const vec3& q : pts.points) {
         const vec3 r = p.to_page(q);
@@ -190,8 +166,8 @@ std::string make_view_page(const view_page& page) {
     json clips = json::array(), targets = json::array(), markers = json::array();
     std::vector<placement> placements;
     for (const auto& v : page.clips) {
-        const clip_points pts = collect_points(v.motion);
-        placements.push_back(place(v.motion, pts, page.up));
+        const clip_points pts = anima::global_points(v.motion);
+        placements.push_back(place(v.motion, page.up));
         clips.push_back(clip_json(v, pts, placements.back()));
     }
     for (const auto& m : page.markers)

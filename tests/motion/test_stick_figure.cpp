@@ -1,7 +1,7 @@
 // Stick figures: the view bases are right-handed and put the figure's left
 // where each view says, and the projected bones (and the pose's bounding
 // diagonal) match values worked out by hand for a small skeleton posed by
-// hand.
+// hand, as do all frames' joint and End Site positions.
 #include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/stick_figure.hpp>
 
@@ -104,6 +104,32 @@ TEST_CASE_TEMPLATE("project_stick_figure matches hand-worked coordinates", T, fl
     CHECK_THROWS_AS(anima::project_stick_figure(c, 2, bones, front), anima::invalid_argument);
     CHECK_THROWS_AS(anima::project_stick_figure(c, 0, {anima::stick_bone{0, 3, false, body_side::centre}}, front),
                     anima::invalid_argument);
+}
+
+TEST_CASE_TEMPLATE("global_points: every frame's joints, then End Sites, at hand-worked positions", T, float, double) {
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    const anima::clip<T> c = posed_clip<T>();
+    const anima::clip_points<T> pts = anima::global_points(c);
+    constexpr std::size_t none = anima::clip_points<T>::npos;
+    CHECK(pts.per_frame == 4);
+    CHECK(pts.end_site_point == std::vector<std::size_t>{none, 3, none});
+    REQUIRE(pts.points.size() == 8);
+    // Frame 0, the rest pose; frame 1 turned and moved as posed_clip says.
+    const std::vector<vec3> expected{vec3(0, 0, 0),       vec3(T(0.5), -1, 0), vec3(-1, 0, 0),  vec3(T(0.5), -2, 0),
+                                     vec3(1, 2, 3),       vec3(1, 1, T(2.5)),  vec3(1, 2, 4),   vec3(1, 0, T(2.5))};
+    for (std::size_t i = 0; i < expected.size(); ++i) CHECK((pts.points[i] - expected[i]).norm() < T(1e-5));
+    // The same as forward kinematics frame by frame.
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        const auto pose = anima::forward_kinematics(c, f);
+        const auto sites = anima::end_site_positions(c.skeleton(), pose);
+        for (std::size_t j = 0; j < c.joints(); ++j) {
+            CHECK(pts.points[f * pts.per_frame + j] == pose.positions[j]);
+            if (pts.end_site_point[j] != none) CHECK(pts.points[f * pts.per_frame + pts.end_site_point[j]] == sites[j]);
+        }
+    }
+    const anima::clip_points<T> empty = anima::global_points(anima::clip<T>(c.skeleton(), 0, T(1) / 30));
+    CHECK(empty.points.empty());
+    CHECK(empty.per_frame == 4);
 }
 
 TEST_CASE_TEMPLATE("pose_diagonal is the diagonal of the box the joints span", T, float, double) {

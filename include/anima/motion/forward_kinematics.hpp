@@ -118,6 +118,41 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> global_positions(const clip<T>&
     return out;
 }
 
+/// Every joint and End Site position of every frame, in one array: what a
+/// viewer that animates the whole clip draws (bones to End Sites included),
+/// computed once. Frame f's points are points[f * per_frame ...]: the joints
+/// in order, then the End Sites in their joints' order.
+template <class T>
+struct clip_points {
+    static constexpr std::size_t npos = static_cast<std::size_t>(-1);
+    std::vector<std::size_t> end_site_point;  ///< per joint: its End Site's index within a frame, or npos
+    std::size_t per_frame = 0;                ///< joints + End Sites
+    std::vector<Eigen::Matrix<T, 3, 1>> points;
+};
+
+/// The clip_points of `c`: forward_kinematics and end_site_positions of
+/// every frame. A clip without frames has no points (per_frame is still set).
+template <class T>
+clip_points<T> global_points(const clip<T>& c) {
+    const flush_denormals guard;  // float mocap's tiny angles make subnormal numbers
+    const skeleton<T>& sk = c.skeleton();
+    clip_points<T> out;
+    out.end_site_point.assign(sk.size(), clip_points<T>::npos);
+    out.per_frame = sk.size();
+    for (std::size_t j = 0; j < sk.size(); ++j)
+        if (sk[j].end_site) out.end_site_point[j] = out.per_frame++;
+    out.points.reserve(out.per_frame * c.frames());
+    global_pose<T> pose;
+    for (std::size_t f = 0; f < c.frames(); ++f) {
+        forward_kinematics(c, f, pose);
+        const std::vector<Eigen::Matrix<T, 3, 1>> ends = end_site_positions(sk, pose);
+        out.points.insert(out.points.end(), pose.positions.begin(), pose.positions.end());
+        for (std::size_t j = 0; j < sk.size(); ++j)
+            if (sk[j].end_site) out.points.push_back(ends[j]);
+    }
+    return out;
+}
+
 /// Positions of the skeleton in its rest pose (identity rotations, offsets
 /// only), plus the End Sites in the second vector.
 template <class T>
