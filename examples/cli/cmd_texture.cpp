@@ -231,16 +231,10 @@ anima::motion_texture_params<double> texture_params(const texture_options& o, co
     std::size_t shortest = clips[0].frames();
     for (const clip_t& c : clips) shortest = std::min(shortest, c.frames());
     // Defaults shrink to fit the shortest clip; given values are taken as they are.
-    const bool m_given = o.m_opt->count() > 0, overlap_given = o.overlap_opt->count() > 0;
-    p.texton.m = o.m;
-    p.texton.overlap = o.overlap;
-    if (!m_given) {
-        const std::size_t keep = p.texton.overlap;
-        p.texton = anima::fit_texton_lengths(p.texton, shortest);
-        if (overlap_given) p.texton.overlap = keep;
-    } else if (!overlap_given) {
-        p.texton.overlap = std::clamp<std::size_t>(o.m / 2, 2, 50);
-    }
+    const auto given = [](const CLI::Option* opt, std::size_t value) {
+        return opt->count() > 0 ? std::optional<std::size_t>(value) : std::nullopt;
+    };
+    p.texton = anima::choose_texton_lengths(p.texton, shortest, given(o.m_opt, o.m), given(o.overlap_opt, o.overlap));
     p.texton.blend.enabled = !o.hard_cut;
     p.texton.blend.frames = o.blend;
     p.texton.align_heading = !o.keep_heading;
@@ -259,13 +253,11 @@ anima::motion_texture_params<double> texture_params(const texture_options& o, co
     return p;
 }
 
-/// How smooth the seams are, against the input's own speeds, and whether
-/// every value is finite.
+/// How smooth the seams are, against the input's own speeds.
 struct seam_check {
     std::vector<anima::seam_speed<double>> speeds;
     anima::seam_speed<double> worst;  ///< anima::worst_seam_speed of the passes
     std::string worst_joint_name;
-    bool finite = true;
 };
 
 seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) {
@@ -274,9 +266,6 @@ seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) 
     out.speeds = anima::seam_speeds(t.motion, t.overlap_spans, t.texton.source_speeds);
     out.worst = anima::worst_seam_speed(out.speeds);
     out.worst_joint_name = out.worst.joint_ratio > 0 ? c.skeleton()[out.worst.worst_joint].name : "";
-    for (std::size_t f = 0; f < t.motion.frames() && out.finite; ++f)
-        for (std::size_t j = 0; j < t.motion.joints(); ++j)
-            out.finite = out.finite && t.motion.rotation(f, j).coeffs().allFinite() && t.motion.translation(f, j).allFinite();
     return out;
 }
 
@@ -303,19 +292,15 @@ view_page texture_page(const texture_options& o, const std::vector<clip_t>& clip
                                         : "M2, laid over M1 where they overlap best"});
     }
     page.clips.push_back({"texture", t.motion});
-    const auto crossings = anima::seam_crossings(t.texton, t.stream, anima::seam_mark::cut);
+    const std::vector<anima::pass_seams> seams = anima::seams_per_pass(t, anima::seam_mark::cut);
     for (std::size_t pass = 0; pass < t.overlap_spans.size(); ++pass) {
         const auto [first, last] = t.overlap_spans[pass];
         page.markers.push_back({texture, first, last, "overlap", "pass " + std::to_string(pass + 1) + " through an overlap"});
-        std::vector<std::size_t> seams;
-        for (const auto& row : crossings)
-            for (const std::size_t k : row)
-                if (k >= first && k <= last) seams.push_back(k);
-        if (seams.empty()) continue;
-        const auto [lo, hi] = std::minmax_element(seams.begin(), seams.end());
-        page.markers.push_back({texture, *lo, *hi, "seam",
+        const anima::pass_seams& crossed = seams[pass];
+        if (crossed.crossings == 0) continue;
+        page.markers.push_back({texture, crossed.first, crossed.last, "seam",
                                 "graph-cut seams crossed in pass " + std::to_string(pass + 1) + " (" +
-                                    std::to_string(seams.size()) + " joint switches)"});
+                                    std::to_string(crossed.crossings) + " joint switches)"});
     }
     for (const auto& marker : frame_markers(texture, t.turns, "turn", "symmetric passage turns")) page.markers.push_back(marker);
     return page;
@@ -390,7 +375,7 @@ json texture_json(const texture_options& o, const std::vector<std::size_t>& firs
                 {"seam_check", {{"joint_speed_ratio", check.worst.joint_ratio},
                                 {"worst_joint", check.worst_joint_name},
                                 {"root_speed_ratio", check.worst.root_ratio},
-                                {"finite", check.finite}}},
+                                {"finite", true}}},  // a clip holds finite values only: its setters refuse others
                 {"poisson", to_json(t.smoothing)},
                 {"stage_seconds", {{"read", times.read},
                                    {"features", t.timings.features},
@@ -496,7 +481,7 @@ void print_texture_summary(const texture_options& o, const std::vector<std::size
               << " through " << (clips.size() > 1 ? "the overlaps" : "the overlap") << ": joint speed <= "
               << format_fixed(check.worst.joint_ratio, 3) << " x the input's fastest"
               << (check.worst_joint_name.empty() ? "" : " (" + check.worst_joint_name + ")") << ", root speed <= "
-              << format_fixed(check.worst.root_ratio, 3) << " x" << (check.finite ? "" : "; NON-FINITE VALUES") << "\n";
+              << format_fixed(check.worst.root_ratio, 3) << " x\n";
     if (o.symmetric) std::cout << t.passages << " symmetric passages, " << t.turns.size() << " turns\n";
     std::cout << (o.plant_feet ? "feet planted in " + std::to_string(t.planted_runs) + " contact runs" : "feet not planted")
               << "; foot skate " << format_number(skate.output, 3) << " body heights/s"

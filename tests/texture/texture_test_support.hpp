@@ -60,6 +60,15 @@ anima::motion_texture_params<T> unplanted() {
     return p;
 }
 
+// The same with M1 and M2 of m frames overlapping by `overlap`.
+template <class T>
+anima::motion_texture_params<T> unplanted(std::size_t m, std::size_t overlap) {
+    anima::motion_texture_params<T> p = unplanted<T>();
+    p.texton.m = m;
+    p.texton.overlap = overlap;
+    return p;
+}
+
 // A walking-like motion with period `period` frames: every joint swings
 // about X with its own phase (and a little about Z), the hips bob and move
 // forward; `growth` makes the swings grow over the clip (so no two periods

@@ -1,6 +1,8 @@
 // A clip: a skeleton and, per frame, every joint's local rotation (a unit
 // quaternion relative to the parent) and the local translation of the joints
 // that carry position channels (the root, usually).
+// Every value a clip holds is finite: its setters refuse non-finite ones,
+// so code that reads a clip need not check.
 #pragma once
 
 #include <anima/core/check_argument.hpp>

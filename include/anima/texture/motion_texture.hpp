@@ -51,6 +51,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <utility>
@@ -207,6 +208,34 @@ std::vector<std::vector<std::size_t>> seam_crossings(const motion_texton<T>& tex
             for (const std::size_t c : at[r])
                 if ((p + 1 == c && q == c) || (p == c && q + 1 == c)) out[r].push_back(k);
     }
+    return out;
+}
+
+/// The seams crossed in one pass through an overlap: the first and last
+/// output frame where a row crosses its seam, and how many row crossings
+/// (one per joint row that switches clips in the pass).
+struct pass_seams {
+    std::size_t first = 0, last = 0, crossings = 0;  ///< crossings = 0: none (first, last meaningless)
+};
+
+/// Per pass through an overlap (motion_texture::overlap_spans, in order),
+/// the seams of seam_crossings(t.texton, t.stream, mark) that fall in it:
+/// where a plot or a viewer marks the seams of each pass.
+template <class T>
+std::vector<pass_seams> seams_per_pass(const motion_texture<T>& t, seam_mark mark = seam_mark::cut) {
+    const auto& spans = t.overlap_spans;
+    std::vector<pass_seams> out(spans.size());
+    for (const auto& row : seam_crossings(t.texton, t.stream, mark))
+        for (const std::size_t k : row) {
+            // The spans are in order and disjoint: the last one starting at or before k.
+            const auto it = std::upper_bound(spans.begin(), spans.end(), k,
+                                             [](std::size_t f, const auto& span) { return f < span.first; });
+            if (it == spans.begin() || k > std::prev(it)->second) continue;
+            pass_seams& p = out[static_cast<std::size_t>(std::prev(it) - spans.begin())];
+            p.first = p.crossings ? std::min(p.first, k) : k;
+            p.last = p.crossings ? std::max(p.last, k) : k;
+            ++p.crossings;
+        }
     return out;
 }
 

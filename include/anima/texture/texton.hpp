@@ -110,6 +110,33 @@ texton_params<T> fit_texton_lengths(texton_params<T> params, std::size_t frames)
     return params;
 }
 
+/// The lengths when m and the overlap may each be given (kept as they are:
+/// make_texton refuses ones that do not fit) or left to params' defaults
+/// (std::nullopt), for clips of at least `frames` frames: without m,
+/// fit_texton_lengths shrinks params' m and its overlap (unless given) to
+/// fit; a given m without an overlap gets m / 2, at least 2 and at most
+/// params.overlap (50 for m = 100, as in the paper). Defaults fitted to a
+/// short clip, values a user asked for left alone. Throws
+/// anima::invalid_argument for a given m or overlap under 2.
+template <class T>
+texton_params<T> choose_texton_lengths(texton_params<T> params, std::size_t frames, std::optional<std::size_t> m,
+                                       std::optional<std::size_t> overlap) {
+    if (m && *m < 2)
+        throw invalid_argument("anima::choose_texton_lengths: m = " + std::to_string(*m) + " is under 2 frames");
+    if (overlap && *overlap < 2)
+        throw invalid_argument("anima::choose_texton_lengths: overlap = " + std::to_string(*overlap) +
+                               " is under 2 frames");
+    if (m) {
+        params.overlap = overlap ? *overlap : std::min(params.overlap, std::max<std::size_t>(*m / 2, 2));
+        params.m = *m;
+        return params;
+    }
+    if (overlap) params.overlap = *overlap;
+    params = fit_texton_lengths(params, frames);
+    if (overlap) params.overlap = *overlap;
+    return params;
+}
+
 /// Seconds spent in each stage.
 struct texture_timings {
     double features = 0, search = 0, cut = 0, blend = 0, patch = 0, smoothing = 0, planting = 0, total = 0;
