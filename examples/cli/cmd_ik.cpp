@@ -164,27 +164,17 @@ void train_model(const ik_options& o, solver_setup& s, const wanted_list& wanted
 
 /// The JSON entries of the effectors (a range reports its last frame), and
 /// a warning on stderr for each effector that missed its target anywhere.
-json effector_report(const anima::clip_ik_result<double>& solved, const std::vector<wanted_list>& goal_names,
+json effector_report(const anima::clip_ik_result<double>& solved, const std::vector<anima::frame_goals<double>>& goals,
+                     const std::vector<wanted_list>& goal_names, const skeleton_t& sk,
                      const std::vector<Eigen::Index>& clusters, double tolerance, bool smooth) {
     const std::size_t last = solved.frames.back();
     const bool learned = !clusters.empty();
     json effectors = json::array();
-    // Per effector: the frames where it missed its target, and the worst miss.
-    struct miss {
-        std::size_t frames = 0, worst_frame = 0;
-        double worst = 0;
-    };
-    std::map<std::string, miss> missed;
     for (std::size_t i = 0; i < solved.frames.size(); ++i) {
         const std::size_t f = solved.frames[i];
         const auto& r = solved.results[i];
         for (std::size_t k = 0; k < goal_names[i].size(); ++k) {
             const double error = r.errors[k].position;
-            if (error > tolerance) {
-                miss& m = missed[goal_names[i][k].first];
-                ++m.frames;
-                if (error > m.worst) m.worst = error, m.worst_frame = f;
-            }
             if (smooth && f != last) continue;  // a range reports its last frame
             json e = {{"name", goal_names[i][k].first},
                       {"frame", f},
@@ -195,8 +185,11 @@ json effector_report(const anima::clip_ik_result<double>& solved, const std::vec
             effectors.push_back(std::move(e));
         }
     }
-    for (const auto& [name, m] : missed) {
-        std::cerr << "anima: warning: effector '" << name << "' did not reach its target";
+    // Warned about in the order of their names.
+    std::vector<anima::goal_misses<double>> missed = anima::missed_goals(solved, goals, tolerance);
+    std::sort(missed.begin(), missed.end(), [&](const auto& a, const auto& b) { return sk[a.joint].name < sk[b.joint].name; });
+    for (const auto& m : missed) {
+        std::cerr << "anima: warning: effector '" << sk[m.joint].name << "' did not reach its target";
         if (solved.frames.size() > 1) std::cerr << " in " << m.frames << " of " << solved.frames.size() << " frames";
         std::cerr << ": it is " << format_number(m.worst, 3) << " units away";
         if (solved.frames.size() > 1) std::cerr << " at frame " << m.worst_frame;
@@ -282,7 +275,7 @@ void run_ik(const ik_options& o) {
         page_written = write_view_page(o.view, page);
     }
 
-    const json effectors = effector_report(solved, goal_names, clusters, s.params.tolerance, smooth);
+    const json effectors = effector_report(solved, goals, goal_names, sk, clusters, s.params.tolerance, smooth);
     const double seconds = timer.elapsed();
     if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(solved.edited));
     json out = {{"input", o.input},

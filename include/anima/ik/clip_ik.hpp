@@ -65,6 +65,60 @@ struct clip_ik_result {
     T max_joint_step_before = T(0), max_joint_step_after = T(0);
 };
 
+/// How the goals on one joint missed over a solved clip: the solved frames
+/// where one ended farther from its target than the tolerance, and the
+/// largest such error.
+template <class T>
+struct goal_misses {
+    std::size_t joint = 0;
+    std::size_t frames = 0;       ///< solved frames where a goal on the joint missed
+    std::size_t worst_frame = 0;  ///< the frame of the largest miss (the first of equal ones)
+    T worst = T(0);               ///< that position error
+};
+
+/// Per joint with a goal that missed in any solved frame, by joint index:
+/// what a tool warns about when solve_clip_ik did not reach every target.
+/// `goals` are those solve_clip_ik was given (their joints name the
+/// errors). Throws anima::invalid_argument for a negative or NaN tolerance,
+/// or goals that do not match `solved` (frames or goal counts).
+template <class T>
+std::vector<goal_misses<T>> missed_goals(const clip_ik_result<T>& solved, const std::vector<frame_goals<T>>& goals,
+                                         T tolerance) {
+    const std::string who = "anima::missed_goals";
+    if (!(tolerance >= T(0)))
+        throw invalid_argument(who + ": tolerance must be >= 0, got " + detail::argument_text(tolerance));
+    if (goals.size() != solved.frames.size() || solved.results.size() != solved.frames.size())
+        throw invalid_argument(who + ": " + std::to_string(goals.size()) + " goal sets for " +
+                               std::to_string(solved.frames.size()) + " solved frames");
+    std::vector<goal_misses<T>> out;
+    for (std::size_t i = 0; i < goals.size(); ++i) {
+        const auto& errors = solved.results[i].errors;
+        if (goals[i].frame != solved.frames[i] || errors.size() != goals[i].goals.size())
+            throw invalid_argument(who + ": goal set " + std::to_string(i) + " (frame " +
+                                   std::to_string(goals[i].frame) + ", " + std::to_string(goals[i].goals.size()) +
+                                   " goals) does not match solved frame " + std::to_string(solved.frames[i]) + " (" +
+                                   std::to_string(errors.size()) + " errors)");
+        std::vector<std::size_t> counted;  // the joints this frame has counted already
+        for (std::size_t k = 0; k < errors.size(); ++k) {
+            if (!(errors[k].position > tolerance)) continue;
+            const std::size_t joint = goals[i].goals[k].joint;
+            auto it = std::find_if(out.begin(), out.end(), [&](const goal_misses<T>& m) { return m.joint == joint; });
+            if (it == out.end()) it = out.insert(out.end(), goal_misses<T>{joint, 0, 0, T(0)});
+            if (std::find(counted.begin(), counted.end(), joint) == counted.end()) {
+                ++it->frames;
+                counted.push_back(joint);
+            }
+            if (errors[k].position > it->worst) {
+                it->worst = errors[k].position;
+                it->worst_frame = solved.frames[i];
+            }
+        }
+    }
+    // (a.joint) in parentheses: `a.joint <` would start anima::joint's template arguments.
+    std::sort(out.begin(), out.end(), [](const goal_misses<T>& a, const goal_misses<T>& b) { return (a.joint) < b.joint; });
+    return out;
+}
+
 /// Largest change of any joint's rotation (radians) between consecutive
 /// frames of c from frame `first` to frame `last` (both clamped to the clip).
 template <class T>
