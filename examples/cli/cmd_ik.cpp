@@ -329,5 +329,5 @@ void register_ik(CLI::App& app) {
         ->check(integer_in(0, 1000));
     sub->add_option("-o,--output", o->output, "Output BVH file");
     add_view_option(*sub, o->view, "the clip before and after, the targets shown");
-    sub->add_flag("--json", o->json, "Print the result as JSON");
+    sub->add_flag("--json", o->json, "Print a JSON object instead of text");
 }
