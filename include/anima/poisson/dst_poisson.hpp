@@ -32,6 +32,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -103,9 +104,18 @@ public:
         if (fy_) fy_->apply_columns(b);
         solve_rows(b);
         if (iy_) iy_->apply_columns(b);
-        b *= scale_;
-        // The scaled operator is 2^2s A: its solution is u 2^-2s.
-        b = b.unaryExpr([s = 2 * spacing_exponent_](T v) { return std::ldexp(v, s); });
+        // The scaled operator is 2^2s A: its solution is u 2^-2s. One
+        // multiplication by scale_ 2^2s when that factor is a normal number
+        // (exact, and the same result as two: a pass of ldexp per cell made
+        // the solve 15-20 % slower); two steps only for spacings so small
+        // that the factor would lose bits as a subnormal.
+        const T factor = std::ldexp(scale_, 2 * spacing_exponent_);
+        if (factor >= std::numeric_limits<T>::min() && factor <= std::numeric_limits<T>::max()) {
+            b *= factor;
+        } else {
+            b *= scale_;
+            b = b.unaryExpr([s = 2 * spacing_exponent_](T v) { return std::ldexp(v, s); });
+        }
         if (!b.allFinite())
             throw error(who + ": the solution is not finite (the right-hand side is too large for the scalar type)");
         if (prm_.compute_residual) res.relative_residual = detail::relative_residual_of(p, folded, b);
