@@ -255,15 +255,20 @@ struct foot_points {
     std::vector<T> rise, speed;
 };
 
-/// The frames `seconds` spans at `frame_time`, ceil(seconds / frame_time -
-/// slack), capped at 1e15 (no clip is that long) and 0 for a NaN: a tiny
-/// frame time or a huge duration must not overflow the conversion to a
-/// count (undefined behaviour).
+/// A whole number of frames as a count, capped at 1e15 (no clip is that
+/// long), 0 for a NaN or a negative: a tiny frame time or a huge duration
+/// must not overflow the conversion (undefined behaviour).
 template <class T>
-std::size_t frames_spanning(T seconds, T frame_time, T slack = T(0)) {
-    const T frames = std::ceil(seconds / frame_time - slack);
+std::size_t capped_frame_count(T frames) {
     if (!(frames > T(0))) return 0;
     return frames < T(1e15) ? static_cast<std::size_t>(frames) : std::size_t(1e15);
+}
+
+/// The frames `seconds` spans at `frame_time`: ceil(seconds / frame_time -
+/// slack), capped.
+template <class T>
+std::size_t frames_spanning(T seconds, T frame_time, T slack = T(0)) {
+    return capped_frame_count(std::ceil(seconds / frame_time - slack));
 }
 
 /// Foot speeds are central differences over +-1/60 s, this many frames
@@ -271,8 +276,7 @@ std::size_t frames_spanning(T seconds, T frame_time, T slack = T(0)) {
 /// millimetre marker noise into centimetres per second.
 template <class T>
 std::size_t speed_half_window(T frame_time) {
-    const double frames = std::round(1.0 / (60.0 * static_cast<double>(frame_time)));
-    return frames >= 1.0 ? (frames < 1e15 ? static_cast<std::size_t>(frames) : std::size_t(1e15)) : 1;
+    return std::max<std::size_t>(1, capped_frame_count(std::round(1.0 / (60.0 * static_cast<double>(frame_time)))));
 }
 
 template <class T>
