@@ -42,7 +42,7 @@ using clip_points = anima::clip_points<double>;
 /// The page's axes are the front stick view's (the figure's left, up and
 /// front), in metres when the unit is a confident guess (else the figure is
 /// made 1.7 m tall), the lowest point of the clip on the ground.
-placement place(const clip_t& c, std::optional<anima::signed_axis> up_given) {
+placement place(const clip_t& c, const clip_points& pts, std::optional<anima::signed_axis> up_given) {
     const skeleton_t& sk = c.skeleton();
     placement p;
     p.up = up_given ? *up_given : anima::guess_up_axis(sk).up;
@@ -52,7 +52,7 @@ placement place(const clip_t& c, std::optional<anima::signed_axis> up_given) {
     p.basis.row(0) = view.right.transpose() * scale;
     p.basis.row(1) = view.up.transpose() * scale;
     p.basis.row(2) = view.toward.transpose() * scale;
-    const double lowest = anima::lowest_along(c, view.up) * scale;
+    const double lowest = anima::lowest_along(pts, view.up) * scale;
     p.ground = std::isfinite(lowest) ? lowest : 0.0;
     return p;
 }
@@ -166,7 +166,7 @@ std::string make_view_page(const view_page& page) {
     std::vector<placement> placements;
     for (const auto& v : page.clips) {
         const clip_points pts = anima::global_points(v.motion);
-        placements.push_back(place(v.motion, page.up));
+        placements.push_back(place(v.motion, pts, page.up));
         clips.push_back(clip_json(v, pts, placements.back()));
     }
     for (const auto& m : page.markers)

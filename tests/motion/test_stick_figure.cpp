@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace {
@@ -127,9 +128,15 @@ TEST_CASE_TEMPLATE("global_points: every frame's joints, then End Sites, at hand
             if (pts.end_site_point[j] != none) CHECK(pts.points[f * pts.per_frame + pts.end_site_point[j]] == sites[j]);
         }
     }
+    // lowest_along on the points is lowest_along on the clip, bit for bit.
+    for (const vec3& d : {vec3(0, 1, 0), vec3(0, -1, 0), vec3(0, 0, 1)}) {
+        CHECK(anima::lowest_along(pts, d) == anima::lowest_along(c, d));
+    }
+    CHECK(anima::lowest_along(pts, vec3(0, 1, 0)) == T(-2));  // frame 0's End Site
     const anima::clip_points<T> empty = anima::global_points(anima::clip<T>(c.skeleton(), 0, T(1) / 30));
     CHECK(empty.points.empty());
     CHECK(empty.per_frame == 4);
+    CHECK(anima::lowest_along(empty, vec3(0, 1, 0)) == std::numeric_limits<T>::infinity());
 }
 
 TEST_CASE_TEMPLATE("pose_diagonal is the diagonal of the box the joints span", T, float, double) {

@@ -153,6 +153,16 @@ clip_points<T> global_points(const clip<T>& c) {
     return out;
 }
 
+/// lowest_along on positions already computed (the same points, so the same
+/// value): a viewer that has its clip_points need not run the clip's
+/// forward kinematics again. +infinity when there are no points.
+template <class T>
+T lowest_along(const clip_points<T>& pts, const Eigen::Matrix<T, 3, 1>& direction) {
+    T lowest = std::numeric_limits<T>::infinity();
+    for (const auto& p : pts.points) lowest = std::min(lowest, p.dot(direction));
+    return lowest;
+}
+
 /// Positions of the skeleton in its rest pose (identity rotations, offsets
 /// only), plus the End Sites in the second vector.
 template <class T>
