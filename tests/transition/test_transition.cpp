@@ -1716,6 +1716,14 @@ void check_blend_many() {
         std::fill(got.begin(), got.end(), untouched);
         anima::detail::squad_many(a, b, s1, s2, t.data(), t.size(), got.data(), stride);
         check_writes([&](T u) { return anima::squad(a, b, s1, s2, u); });
+        // The fingers' normalised blend, b on a's side, against Eigen's normalisation.
+        const quat b_side = a.coeffs().dot(b.coeffs()) < T(0) ? quat(-b.coeffs()) : b;
+        std::fill(got.begin(), got.end(), untouched);
+        anima::detail::lerp_many(a, b_side, t.data(), t.size(), got.data(), stride);
+        check_writes([&](T u) {
+            const Eigen::Matrix<T, 4, 1> q = a.coeffs() * (T(1) - u) + b_side.coeffs() * u;
+            return quat(q * (T(1) / q.norm()));
+        });
     }
     CHECK(overwritten == 0);
     CHECK(differ == 0);
@@ -1723,7 +1731,7 @@ void check_blend_many() {
 
 }  // namespace
 
-TEST_CASE("slerp and squad of one pair at many parameters are slerp's and squad's, bit for bit") {
+TEST_CASE("slerp, squad and lerp of one pair at many parameters are slerp's, squad's and the normalised blend, bit for bit") {
     check_blend_many<double>();
     check_blend_many<float>();
 }

@@ -307,13 +307,10 @@ void make_transition_checked(const clip<T>& a, std::size_t trigger, const clip<T
         switch (out.methods[j]) {
             case interpolation::lerp: {
                 const std::vector<T>& hs = roles[j] == joint_role::finger ? ws.h_linear : ws.h;
-                // Normalised: q2 is on q1's side, so the blend is at least 1/sqrt(2) long.
                 // Not anima::nlerp or lerp: their side test and checks of t
-                // cost 3-7 us a call here, and hs are finite by construction.
-                for (std::size_t k = 0; k + 1 < steps; ++k) {
-                    const auto q = (q1.coeffs() * (T(1) - hs[k]) + q2.coeffs() * hs[k]).eval();
-                    column[k * nj] = quat(q * (T(1) / q.norm()));
-                }
+                // cost 3-7 us a call here; q2 is on q1's side and hs are
+                // finite by construction.
+                lerp_many(q1, q2, hs.data(), steps - 1, column, nj);
                 break;
             }
             case interpolation::squad: {

@@ -52,6 +52,32 @@ ANIMA_FORCE_INLINE void blend_groups(const T* t, std::size_t n, bool fast, Eigen
     }
 }
 
+/// out[k * stride] = the normalised blend (1 - t[k]) a + t[k] b for k < n,
+/// with b on a's side (so the blend is at least 1/sqrt(2) long) and every
+/// t[k] finite. The square roots and divisions of lane_count frames share
+/// one vector instruction each: they, not the blends, bound the loop.
+/// Each result is q / |q| rounded as Eigen's q * (1 / q.norm()).
+template <class T>
+void lerp_many(const Eigen::Quaternion<T>& a, const Eigen::Quaternion<T>& b, const T* t, std::size_t n,
+               Eigen::Quaternion<T>* out, std::size_t stride = 1) {
+    constexpr int width = 4, vectors = width / lane_count<T>;
+    for (std::size_t k = 0; k < n; k += width) {
+        const int m = static_cast<int>(std::min<std::size_t>(width, n - k));
+        Eigen::Matrix<T, 4, 1> q[width];
+        T squared[width], inverse[width];
+        for (int i = 0; i < width; ++i) {
+            const T u = t[k + static_cast<std::size_t>(std::min(i, m - 1))];
+            q[i] = a.coeffs() * (T(1) - u) + b.coeffs() * u;
+            squared[i] = q[i].squaredNorm();
+        }
+        for (int v = 0; v < vectors; ++v) {
+            const lanes<T> r = splat(T(1)) / sqrt_lanes<T>(load_lanes(squared + v * lane_count<T>));
+            for (int i = 0; i < lane_count<T>; ++i) inverse[v * lane_count<T> + i] = r[i];
+        }
+        for (int i = 0; i < m; ++i) out[(k + static_cast<std::size_t>(i)) * stride] = Eigen::Quaternion<T>(q[i] * inverse[i]);
+    }
+}
+
 /// out[k * stride] = slerp(a, b, t[k]) for k < n: slerp4's fast paths (nearly
 /// identical inputs or not) with the pair's part taken out of the loop. What
 /// slerp4 would send to its general path (inputs far from unit length, t
