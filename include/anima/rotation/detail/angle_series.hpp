@@ -80,7 +80,7 @@ constexpr int direct_series_terms_within(T bound) {
 /// branches on mixed angles than they save. Beyond the last, up to
 /// direct_series_limit, direct_series_terms.
 template <class T>
-inline constexpr T direct_series_bounds[] = {T(1) / T(1024), T(1) / T(64), T(1) / T(16), T(1) / T(8)};
+inline constexpr T direct_series_bounds[4] = {T(1) / T(1024), T(1) / T(64), T(1) / T(16), T(1) / T(8)};
 template <class T>
 inline constexpr int direct_series_tiers = std::numeric_limits<T>::digits <= 24 ? 2 : 4;
 
