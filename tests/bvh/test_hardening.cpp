@@ -181,6 +181,23 @@ TEST_CASE("output_files: every file in place at the commit, or none") {
     fs::remove_all(dir);
 }
 
+TEST_CASE("output_files: a device that refuses its bytes replaces no file") {
+    if (!fs::exists("/dev/full")) return;  // a system without it
+    const fs::path dir = scratch_folder("output_files_device");
+    const std::string a = (dir / "a.bvh").string();
+    anima::write_file_atomically(a, "old a");
+    {
+        anima::output_files out;
+        out.write(a, "new a");
+        out.write("/dev/full", "bytes");
+        CHECK_THROWS_AS(out.commit(), anima::io_error);
+        CHECK(out.pending() == 0);
+    }
+    CHECK(slurp(a) == "old a");
+    CHECK(entries(dir) == std::vector<fs::path>{"a.bvh"});
+    fs::remove_all(dir);
+}
+
 #ifdef ANIMA_TEST_HAVE_FIFO
 TEST_CASE("a FIFO is written in place, not replaced by a regular file") {
     const fs::path dir = scratch_folder("fifo");

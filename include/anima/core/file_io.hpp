@@ -16,6 +16,7 @@
 
 #include <anima/core/error.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstddef>
 #include <cstdint>
@@ -174,8 +175,10 @@ inline void rename_into_place(const std::filesystem::path& temp, const std::stri
 /// complete. Destroyed (or discarded) without a commit, it removes its
 /// temporaries, so a run that fails after writing some of its outputs leaves
 /// every existing file as it was. A FIFO or a device is written in place at
-/// the commit. Only the renames are left for the commit: should one of them
-/// fail, the files before it have been replaced and the rest are not.
+/// the commit, before the renames, so that one refusing its bytes (a full
+/// disk, /dev/full) replaces nothing. Only the renames are left for the
+/// commit after that: should one of them fail, the files before it have
+/// been replaced and the rest are not.
 /// Throws anima::io_error naming the file and the reason.
 class output_files {
 public:
@@ -193,6 +196,9 @@ public:
     }
 
     void commit() {
+        // The files written in place first: a device or FIFO that refuses
+        // its bytes then leaves every regular file as it was.
+        std::stable_partition(entries_.begin(), entries_.end(), [](const entry& e) { return e.temp.empty(); });
         std::size_t done = 0;
         try {
             for (; done < entries_.size(); ++done) {
