@@ -6,7 +6,9 @@
 #include <anima/rotation/euler.hpp>
 #include <anima/rotation/quaternion.hpp>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 using namespace rt;
 
@@ -168,6 +170,13 @@ TEST_CASE("euler orders parse case-insensitively and print as upper case") {
     CHECK(anima::parse_euler_order("ZXY") == anima::euler_order::zxy);
     CHECK(anima::parse_euler_order("zXy") == anima::euler_order::zxy);
     CHECK(anima::to_string(anima::euler_order::zxy) == "ZXY");
+    // The names a tool offers are the ones to_string prints.
+    const std::vector<std::string> names = anima::enum_name_list<anima::euler_order>();
+    CHECK(names.size() == 6);
+    for (anima::euler_order order : orders)
+        CHECK(std::find(names.begin(), names.end(), anima::to_string(order)) != names.end());
+    CHECK_THROWS_WITH(anima::parse_euler_order("zxz"),
+                      "anima::parse_euler_order: 'zxz' is not a rotation order: use XYZ, XZY, YXZ, YZX, ZXY or ZYX");
     for (const char* bad : {"zxz", "xxy", "abc", "xy", "", "xyzx", "x y", "XYW"}) {
         CAPTURE(bad);
         CHECK_THROWS_AS(anima::parse_euler_order(bad), anima::invalid_argument);

@@ -8,12 +8,12 @@
 #pragma once
 
 #include <anima/core/check_argument.hpp>
+#include <anima/core/enum_names.hpp>
 #include <anima/core/error.hpp>
 #include <anima/rotation/detail/quat4.hpp>
 #include <anima/rotation/quat_traits.hpp>
 
 #include <array>
-#include <cctype>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -52,20 +52,18 @@ inline euler_order euler_order_of(axis a0, axis a1, axis a2) {
     throw invalid_argument("anima::euler_order_of: the three axes must be distinct");
 }
 
-/// "XYZ", "zxy"... (case-insensitive) to an order; throws anima::invalid_argument otherwise.
+template <>
+struct enum_names<euler_order> {
+    static constexpr const char* what = "rotation order";
+    static constexpr enum_entry<euler_order> entries[] = {
+        {euler_order::xyz, "XYZ"}, {euler_order::xzy, "XZY"}, {euler_order::yxz, "YXZ"},
+        {euler_order::yzx, "YZX"}, {euler_order::zxy, "ZXY"}, {euler_order::zyx, "ZYX"}};
+};
+
+/// "XYZ", "zxy"... (case-insensitive) to an order; throws anima::invalid_argument
+/// naming the choices otherwise.
 inline euler_order parse_euler_order(std::string_view s) {
-    if (s.size() == 3) {
-        axis ax[3];
-        bool ok = true;
-        for (int i = 0; i < 3; ++i) {
-            const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(s[i])));
-            if (c < 'x' || c > 'z') ok = false;
-            else ax[i] = static_cast<axis>(c - 'x');
-        }
-        if (ok && ax[0] != ax[1] && ax[1] != ax[2] && ax[0] != ax[2]) return euler_order_of(ax[0], ax[1], ax[2]);
-    }
-    throw invalid_argument("anima::parse_euler_order: '" + std::string(s) +
-                           "' is not one of XYZ, XZY, YXZ, YZX, ZXY, ZYX");
+    return parse_enum<euler_order>(s, "anima::parse_euler_order");
 }
 
 /// "XYZ" etc.
