@@ -6,7 +6,6 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
-#include <iostream>
 #include <string>
 
 namespace anima_cli {
@@ -89,7 +88,7 @@ void run_convert(const convert_options& o) {
                     {"euler", via_clip ? json(o.euler) : json(nullptr)}});
         return;
     }
-    std::string line = "wrote " + o.output + ": " + std::to_string(doc.frames) + " frames, " +
+    std::string line = o.output + ": " + std::to_string(doc.frames) + " frames, " +
                        std::to_string(written.size()) + " joints, " + std::to_string(written.channel_count()) +
                        " channels, order ";
     line += order_out == "mixed" ? "mixed (" + join(anima::rotation_orders(written)) + ")" : order_out;
@@ -99,7 +98,7 @@ void run_convert(const convert_options& o) {
     if (change_scale) line += ", scaled by " + format_number(o.scale);
     line += via_clip ? ", angles re-encoded (" + o.euler + ")" : ", channel values as read";
     line += ", " + std::to_string(options.decimals) + " decimals";
-    std::cout << line << '\n';
+    report_written(line);
 }
 
 }  // namespace

@@ -196,7 +196,7 @@ void run_flight(const flight_options& o) {
     for (std::size_t k = 0; k < r.initial.times.size(); ++k)
         std::cout << "  " << k + 1 << (k + 1 < 10 ? "    " : "   ") << format_fixed(r.initial.times[k], 3) << "        "
                   << format_fixed(r.optimized.times[k], 3) << "\n";
-    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
+    if (!o.view.empty()) report_written(page_written);
 }
 
 }  // namespace

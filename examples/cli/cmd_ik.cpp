@@ -296,7 +296,7 @@ void run_ik(const ik_options& o) {
               << ": " << solved.converged_frames << " converged, largest error " << format_number(solved.largest_error, 3)
               << " (tolerance " << format_number(s.params.tolerance, 3) << "), " << solved.iterations << " iterations, "
               << format_number(seconds, 3) << " s\n";
-    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
+    if (!o.view.empty()) report_written(page_written);
 }
 
 }  // namespace

@@ -181,9 +181,9 @@ void run_playback(const playback_options& o) {
               << summary << "\ncoverage: " << distinct << " of " << n << " source frames shown ("
               << format_fixed(100 * cov.visited, 1) << "%), evenness " << format_fixed(cov.evenness, 3) << "\n";
     if (!o.output.empty())
-        std::cout << "wrote " << o.output << ": " << o.frames << " frames, root path " << o.root << ", "
-                  << write.decimals << " decimals, " << planting_note(o, out) << "\n";
-    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
+        report_written(o.output + ": " + std::to_string(o.frames) + " frames, root path " + o.root + ", " +
+                       std::to_string(write.decimals) + " decimals, " + planting_note(o, out));
+    if (!o.view.empty()) report_written(page_written);
 }
 
 }  // namespace

@@ -143,7 +143,8 @@ void run_poisson(const poisson_options& o) {
               << " ns per unknown)\n";
     if (o.neumann && r.removed_mean != 0)
         std::cout << "pure Neumann: removed the mean " << format_number(r.removed_mean) << " of f; u has zero mean\n";
-    if (!o.output.empty()) std::cout << "wrote " << o.output << " (" << size.height << " rows of " << size.width << ")\n";
+    if (!o.output.empty())
+        report_written(o.output + " (" + std::to_string(size.height) + " rows of " + std::to_string(size.width) + ")");
 }
 
 }  // namespace

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
-#include <iostream>
 #include <limits>
 #include <string>
 #include <system_error>
@@ -243,9 +242,10 @@ void run_animate(const render_options& o, const clip_t& clip, const view_basis& 
         svg.text(ax + aw * t / seconds, ay + 14, format_number(t, 4) + " s", 10, "#444", "middle");
     }
     write_text_file(o.output, svg.str());
-    std::cout << "wrote " << o.output << ": " << frames.size() << " frames of " << o.input << " (" << first << "-" << last
-              << ", every " << step << (step == 1 ? "st" : "th") << "), " << view_name << ", looping every "
-              << format_number(seconds, 4) << " s, " << svg_number(width) << "x" << svg_number(height) << " px\n";
+    report_written(o.output + ": " + std::to_string(frames.size()) + " frames of " + o.input + " (" +
+                   std::to_string(first) + "-" + std::to_string(last) + ", every " + std::to_string(step) +
+                   (step == 1 ? "st" : "th") + "), " + view_name + ", looping every " + format_number(seconds, 4) +
+                   " s, " + svg_number(width) + "x" + svg_number(height) + " px");
 }
 
 void run_render(const render_options& o) {
@@ -329,9 +329,9 @@ void run_render(const render_options& o) {
 
     std::vector<std::string> listed;
     for (const panel& p : panels) listed.push_back(std::to_string(p.frame));
-    std::cout << "wrote " << o.output << ": " << n << (n == 1 ? " frame" : " frames") << " of " << o.input << " ("
-              << join(listed) << "), " << view_name << ", up " << anima::to_string(up) << ", "
-              << svg_number(width) << "x" << svg_number(height) << " px\n";
+    report_written(o.output + ": " + std::to_string(n) + (n == 1 ? " frame" : " frames") + " of " + o.input + " (" +
+                   join(listed) + "), " + view_name + ", up " + anima::to_string(up) + ", " + svg_number(width) + "x" +
+                   svg_number(height) + " px");
 }
 
 }  // namespace

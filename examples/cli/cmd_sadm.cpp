@@ -179,7 +179,8 @@ void run_train(const train_options& o) {
     std::cout << "trained on " << frames.images.size() << " frames (" << frames.names.front() << " .. "
               << frames.names.back() << "): " << model.shape().size() << " shape parameters, " << model.grey().size()
               << " grey parameters over " << model.grey().raster().size() << " face pixels, " << o.regressor
-              << " mapping, " << format_number(seconds, 3) << " s\nwrote " << o.output << '\n';
+              << " mapping, " << format_number(seconds, 3) << " s\n";
+    report_written(o.output);
 }
 
 // ---------------------------------------------------------------------------
@@ -254,7 +255,7 @@ void run_eval(const eval_options& o) {
               << format_fixed(*std::min_element(r.psnr.begin(), r.psnr.end()), 2) << ", max "
               << format_fixed(*std::max_element(r.psnr.begin(), r.psnr.end()), 2) << " (grey model with the real b_g: "
               << format_fixed(r.psnr_model_mean, 2) << " dB)\n";
-    if (!o.figure.empty()) std::cout << "wrote " << o.figure << ": ground truth, synthesis, synthesis with noise\n";
+    if (!o.figure.empty()) report_written(o.figure + ": ground truth, synthesis, synthesis with noise");
 }
 
 // ---------------------------------------------------------------------------
@@ -286,7 +287,7 @@ void run_synth(const synth_options& o) {
         out = anima::paste_face(grey(grey::Zero(rows, cols)), model.render(lm, rows, cols));
     }
     save_grey(o.output, out, "--out");
-    std::cout << "wrote " << o.output << " (" << out.cols() << "x" << out.rows() << ")\n";
+    report_written(o.output + " (" + std::to_string(out.cols()) + "x" + std::to_string(out.rows()) + ")");
 }
 
 }  // namespace

@@ -92,7 +92,7 @@ void run_smooth(const smooth_options& o) {
                   << s["worst_dof"].get<std::string>() << '\n';
     std::cout << "largest change of any frame: " << format_fixed(drift_rot, 3) << " deg, " << format_fixed(drift_tr, 3)
               << " units\n";
-    if (!o.output.empty()) std::cout << "wrote " << o.output << '\n';
+    if (!o.output.empty()) report_written(o.output);
 }
 
 }  // namespace

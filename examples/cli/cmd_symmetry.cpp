@@ -230,11 +230,12 @@ void run_symmetry(const symmetry_cli_options& o) {
             std::cout << "(pairs: the frame pairs i-r, i+r inside the range; fewer than " << params.radius
                       << " near its ends, where the score rests on fewer comparisons)\n";
     }
-    if (!o.plot.empty()) std::cout << "wrote " << o.plot << ": the score curve with the candidates marked\n";
+    if (!o.plot.empty()) report_written(o.plot + ": the score curve with the candidates marked");
     if (!o.matrix.empty())
-        std::cout << "wrote " << o.matrix << ": the " << n << "x" << n << " distance matrix as " << image.size << "x"
-                  << image.size << " px (black: identical frames, white: distance " << format_number(image.white, 4)
-                  << " and above)\n";
+        report_written(o.matrix + ": the " + std::to_string(n) + "x" + std::to_string(n) + " distance matrix as " +
+                       std::to_string(image.size) + "x" + std::to_string(image.size) +
+                       " px (black: identical frames, white: distance " + format_number(image.white, 4) +
+                       " and above)");
 }
 
 }  // namespace

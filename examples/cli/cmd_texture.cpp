@@ -556,14 +556,13 @@ void run_texture(texture_options o) {
     }
     print_texture_summary(o, firsts, clips, texton, t, check, skate, order_costs);
     if (!o.output.empty())
-        std::cout << "wrote " << o.output
-                  << (clips.size() > 1 ? " (skeleton and offsets of " + file_name(o.inputs[0]) + ")" : std::string()) << '\n';
-    if (!o.texton_output.empty()) std::cout << "wrote " << o.texton_output << " (the texton)\n";
+        report_written(o.output +
+                       (clips.size() > 1 ? " (skeleton and offsets of " + file_name(o.inputs[0]) + ")" : std::string()));
+    if (!o.texton_output.empty()) report_written(o.texton_output + " (the texton)");
     if (!o.plot.empty())
-        std::cout << "wrote " << o.plot << ": input and texture as DOF x frame images, seams in red"
-                  << (is_svg_path(o.plot) ? " (with axes, joints, colour bar and legend)" : "")
-                  << "\n";
-    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
+        report_written(o.plot + ": input and texture as DOF x frame images, seams in red" +
+                       (is_svg_path(o.plot) ? " (with axes, joints, colour bar and legend)" : ""));
+    if (!o.view.empty()) report_written(page_written);
 }
 
 }  // namespace

@@ -112,9 +112,9 @@ void print_transition(const transition_options& o, const json& out, const std::s
     std::cout << "\nroot's ground speed in the window: at least " << format_fixed(out["root_speed"]["ratio"].get<double>(), 2)
               << "x the slower end's (" << format_number(out["root_speed"]["min"].get<double>(), 3) << " of "
               << format_number(out["root_speed"]["ends"].get<double>(), 3) << " m/s)\n";
-    if (!o.output.empty()) std::cout << "wrote " << o.output << " (skeleton and offsets of " << file_name(o.a) << ")\n";
-    if (!o.feet_plot.empty()) std::cout << "wrote " << o.feet_plot << ": feet through the window, before and after planting\n";
-    if (!o.view.empty()) std::cout << "wrote " << page_written << "\n";
+    if (!o.output.empty()) report_written(o.output + " (skeleton and offsets of " + file_name(o.a) + ")");
+    if (!o.feet_plot.empty()) report_written(o.feet_plot + ": feet through the window, before and after planting");
+    if (!o.view.empty()) report_written(page_written);
 }
 
 void run_transition(const transition_options& o) {

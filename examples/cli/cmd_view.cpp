@@ -6,7 +6,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <iostream>
 #include <string>
 #include <vector>
 
@@ -30,7 +29,7 @@ void run_view(const view_options& o) {
         names.push_back(file_name(path));
     }
     page.title = o.title.empty() ? join(names, " | ") : o.title;
-    std::cout << "wrote " << write_view_page(o.output, page) << "\n";
+    report_written(write_view_page(o.output, page));
 }
 
 }  // namespace

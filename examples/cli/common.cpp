@@ -51,7 +51,15 @@ anima::output_files& run_outputs() {
     static anima::output_files outputs;
     return outputs;
 }
+
+/// The report_written lines, printed once the outputs are in place.
+std::vector<std::string>& written_lines() {
+    static std::vector<std::string> lines;
+    return lines;
+}
 }  // namespace
+
+void report_written(std::string what) { written_lines().push_back("wrote " + std::move(what)); }
 
 void write_text_file(const std::string& path, std::string_view text) {
     try {
@@ -65,11 +73,17 @@ void commit_outputs() {
     try {
         run_outputs().commit();
     } catch (const anima::io_error& e) {
+        written_lines().clear();
         throw failure(e.what());
     }
+    for (const std::string& line : written_lines()) std::cout << line << '\n';
+    written_lines().clear();
 }
 
-void discard_outputs() noexcept { run_outputs().discard(); }
+void discard_outputs() noexcept {
+    run_outputs().discard();
+    written_lines().clear();
+}
 
 void check_output(const std::string& path, std::string_view option) {
     try {

@@ -60,10 +60,19 @@ std::string read_text_file(const std::string& path);
 /// reason when it cannot be written.
 void write_text_file(const std::string& path, std::string_view text);
 
-/// Puts the run's outputs in place (main, after the command succeeded).
+/// Prints "wrote WHAT" on stdout once the run's outputs are in place
+/// (commit_outputs), not when the command writes them, so that a run that
+/// fails after its writes does not report files it did not leave. WHAT
+/// starts with the file's path ("out.bvh (the texton)"). The lines come out
+/// in the order reported, after everything else the command printed.
+void report_written(std::string what);
+
+/// Puts the run's outputs in place (main, after the command succeeded), then
+/// prints the lines of report_written.
 void commit_outputs();
 
-/// Removes the temporaries of a failed run's outputs.
+/// Removes the temporaries of a failed run's outputs and forgets its
+/// report_written lines.
 void discard_outputs() noexcept;
 
 /// The last component of a path ("walk.bvh" for "data/walk.bvh").

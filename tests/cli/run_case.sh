@@ -8,7 +8,7 @@
 # WORKDIR is emptied first; the command runs inside it. Checks:
 #   --exit N          the exit status must be N (default 0)
 #   --stderr TEXT     stderr must contain TEXT (repeatable; also --stdout)
-#   --no-stderr TEXT  stderr must not contain TEXT
+#   --no-stderr TEXT  stderr must not contain TEXT (also --no-stdout)
 #   --quiet-stderr    stderr must be empty
 #   --keep FILE       FILE is created before the run and must be unchanged after
 #   --absent FILE     FILE must not exist after the run
@@ -30,7 +30,7 @@ set -u
 anima=$1 work=$2
 shift 2
 expect_exit=0 vm_limit=1 fsize="" time_limit=10
-stderr_has=() stderr_lacks=() stdout_has=() keep=() absent=() setup=() checks=() quiet=0
+stderr_has=() stderr_lacks=() stdout_has=() stdout_lacks=() keep=() absent=() setup=() checks=() quiet=0
 json=() json_tool=""
 while [[ $# -gt 0 && $1 != "--" ]]; do
   case $1 in
@@ -38,6 +38,7 @@ while [[ $# -gt 0 && $1 != "--" ]]; do
     --stderr) stderr_has+=("$2"); shift 2 ;;
     --no-stderr) stderr_lacks+=("$2"); shift 2 ;;
     --stdout) stdout_has+=("$2"); shift 2 ;;
+    --no-stdout) stdout_lacks+=("$2"); shift 2 ;;
     --quiet-stderr) quiet=1; shift ;;
     --keep) keep+=("$2"); shift 2 ;;
     --absent) absent+=("$2"); shift 2 ;;
@@ -83,6 +84,7 @@ echo "--- stdout (first 20 lines)"; head -n 20 stdout.txt
 for t in "${stderr_has[@]+"${stderr_has[@]}"}"; do grep -qF -- "$t" stderr.txt || report "stderr lacks: $t"; done
 for t in "${stderr_lacks[@]+"${stderr_lacks[@]}"}"; do grep -qF -- "$t" stderr.txt && report "stderr has: $t"; done
 for t in "${stdout_has[@]+"${stdout_has[@]}"}"; do grep -qF -- "$t" stdout.txt || report "stdout lacks: $t"; done
+for t in "${stdout_lacks[@]+"${stdout_lacks[@]}"}"; do grep -qF -- "$t" stdout.txt && report "stdout has: $t"; done
 [[ $quiet == 1 && -s stderr.txt ]] && report "stderr is not empty"
 LC_ALL=C grep -q $'[\x01-\x08\x0b-\x1f\x7f]' stderr.txt && report "stderr has control bytes"
 [[ $(tr -dc '\000' <stderr.txt | wc -c) -gt 0 ]] && report "stderr has NUL bytes"
