@@ -52,15 +52,7 @@ void run_convert(const convert_options& o) {
         if (change_up && from != to) clip = anima::change_up_axis(clip, from, to);
         if (change_scale) clip = anima::scale_clip(clip, o.scale);
         if (change_order) clip = anima::with_rotation_order(clip, anima::parse_euler_order(o.order));
-        try {
-            text = anima::format_bvh(clip, options);
-        } catch (const anima::invalid_argument& e) {
-            // A joint with one or two rotation channels cannot spell a turned
-            // rotation; --order gives every rotating joint three channels.
-            const std::string what = e.what();
-            if (change_order || what.find("rotation channel") == std::string::npos) throw;
-            throw failure(what + "; --order XYZ (or another order) does that");
-        }
+        text = format_bvh_suggesting(clip, options, change_order ? "" : "--order");
         written = clip.skeleton();
     } else {
         text = anima::format_bvh(doc, options);
@@ -111,10 +103,7 @@ void register_convert(CLI::App& app) {
         run_convert);
     sub->add_option("IN", opts->input, "BVH file to read")->required()->type_name("PATH");
     sub->add_option("OUT", opts->output, "BVH file to write")->required()->type_name("PATH");
-    opts->order_opt = sub->add_option("--order", opts->order,
-                                      "Write every joint's rotation channels in this order (XYZ, XZY, YXZ, YZX, ZXY, ZYX)")
-                          ->type_name("ORDER")
-                          ->check(euler_order_validator());
+    opts->order_opt = add_rotation_order_option(*sub, opts->order, "--order,--rotation-order");
     opts->up_opt = add_up_option(*sub, opts->up, "Turn the clip so that this axis is up (+X, -X, +Y, -Y, +Z, -Z)");
     opts->from_up_opt = add_up_option(*sub, opts->from_up,
                                       "The input's up axis, instead of the one guessed from the skeleton", "--from-up")

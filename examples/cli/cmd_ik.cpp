@@ -31,7 +31,7 @@ namespace anima_cli {
 namespace {
 
 struct ik_options {
-    std::string input, output, view, solver = "dls", offset, frames, by, model_out, targets_file;
+    std::string input, output, view, rotation_order, solver = "dls", offset, frames, by, model_out, targets_file;
     std::size_t frame = 0;
     std::vector<std::string> effectors, targets, train;
     int iterations = 100, restarts = 3;
@@ -277,7 +277,7 @@ void run_ik(const ik_options& o) {
 
     const json effectors = effector_report(solved, goals, goal_names, sk, clusters, s.params.tolerance, smooth);
     const double seconds = timer.elapsed();
-    if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(solved.edited));
+    if (!o.output.empty()) write_text_file(o.output, bvh_text(solved.edited, o.rotation_order));
     json out = {{"input", o.input},
                 {"solver", o.solver},
                 {"frames", json::array({first, last})},
@@ -328,6 +328,7 @@ void register_ik(CLI::App& app) {
     sub->add_option("--restarts", o->restarts, "Random restarts after a failed attempt (target mode)")
         ->check(integer_in(0, 1000));
     sub->add_option("-o,--output", o->output, "Output BVH file");
+    add_rotation_order_option(*sub, o->rotation_order);
     add_view_option(*sub, o->view, "the clip before and after, the targets shown");
     sub->add_flag("--json", o->json, "Print a JSON object instead of text");
 }

@@ -20,7 +20,7 @@ namespace anima_cli {
 namespace {
 
 struct playback_options {
-    std::string input, output, view, root = "accumulated";
+    std::string input, output, view, rotation_order, root = "accumulated";
     frame_range_options range;
     symmetry_options symmetry;
     std::size_t frames = 0, start = 0;
@@ -156,7 +156,7 @@ void run_playback(const playback_options& o) {
         clip_t result = played_clip(o, m, stream, events, out);
         out["feet_planted"] = o.plant_feet;
         if (!o.output.empty()) {
-            write_text_file(o.output, anima::format_bvh(result, write));
+            write_text_file(o.output, bvh_text(result, o.rotation_order, write));
             out["output"] = o.output;
             out["decimals"] = write.decimals;
         }
@@ -201,6 +201,7 @@ void register_playback(CLI::App& app) {
         ->type_name("N")
         ->check(integer_in(1, max_frames));
     sub->add_option("-o,--output", opts->output, "Write the new motion to this BVH file")->type_name("OUT.bvh");
+    add_rotation_order_option(*sub, opts->rotation_order);
     add_view_option(*sub, opts->view, "the input and the new motion, the turns marked");
     add_setting(*sub, "--seed", opts->seed, "Seed of the random turns (same seed, same motion)", count_up_to(~0ULL));
     add_setting(*sub, "--root", opts->root,

@@ -34,7 +34,7 @@ namespace {
 
 struct texture_options {
     std::vector<std::string> inputs;
-    std::string output, plot, texton_output, view;
+    std::string output, plot, texton_output, view, rotation_order;
     std::size_t frames = 0, m = 100, overlap = 50, blend = 0, first = 0;
     std::uint64_t seed = 1;
     std::string capacity = "normalized", metric = "mahalanobis", smoothing = "1d", solver = "multigrid", order = "given";
@@ -527,8 +527,8 @@ void run_texture(texture_options o) {
     timer.lap();
     anima::bvh_write_options write;
     write.decimals = decimals;
-    if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(t.motion, write));
-    if (!o.texton_output.empty()) write_text_file(o.texton_output, anima::format_bvh(texton.motion, write));
+    if (!o.output.empty()) write_text_file(o.output, bvh_text(t.motion, o.rotation_order, write));
+    if (!o.texton_output.empty()) write_text_file(o.texton_output, bvh_text(texton.motion, o.rotation_order, write));
     if (!o.plot.empty()) {
         std::string name;
         for (const std::string& input : o.inputs) name += (name.empty() ? "" : " + ") + file_name(input);
@@ -588,6 +588,7 @@ void register_texture(CLI::App& app) {
         ->type_name("OUT.svg|OUT.png");
     add_view_option(*sub, opts->view, "the input and the texture, seams and overlap passes on the timeline");
     sub->add_option("--texton", opts->texton_output, "Write the texton (one loop) to this BVH file")->type_name("OUT.bvh");
+    add_rotation_order_option(*sub, opts->rotation_order);
     opts->m_opt = sub->add_option("-m", opts->m, "Frames of M1 (the clip's first) and M2 (its last); default 100, or half a shorter clip")
                       ->type_name("M")
                       ->check(integer_in(2, max_frames));

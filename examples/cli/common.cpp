@@ -302,9 +302,36 @@ CLI::Validator euler_order_validator() {
     return parse_check<anima::error>(
         anima::parse_euler_order,
         [](const std::string& value, const anima::error&) {
-            return "'" + value + "' is not a rotation order: use XYZ, XZY, YXZ, YZX, ZXY or ZYX";
+            return "'" + value + "' is not a rotation order: use " + anima::enum_choices<anima::euler_order>();
         },
-        "{XYZ,XZY,YXZ,YZX,ZXY,ZYX}", "euler order");
+        "{" + join(anima::enum_name_list<anima::euler_order>(), ",") + "}", "euler order");
+}
+
+CLI::Option* add_rotation_order_option(CLI::App& sub, std::string& order, const std::string& name) {
+    return sub
+        .add_option(name, order,
+                    "Give every joint with rotation channels three, in this order, before writing: a joint with "
+                    "one or two cannot spell every rotation")
+        ->type_name("ORDER")
+        ->check(euler_order_validator());
+}
+
+std::string format_bvh_suggesting(const clip_t& clip, const anima::bvh_write_options& options,
+                                  std::string_view option) {
+    try {
+        return anima::format_bvh(clip, options);
+    } catch (const anima::invalid_argument& e) {
+        // A joint with one or two rotation channels cannot spell a turned
+        // rotation; the option gives every rotating joint three channels.
+        const std::string what = e.what();
+        if (option.empty() || what.find("rotation channel") == std::string::npos) throw;
+        throw failure(what + "; " + std::string(option) + " XYZ (or another order) does that");
+    }
+}
+
+std::string bvh_text(const clip_t& clip, const std::string& order, const anima::bvh_write_options& options) {
+    if (order.empty()) return format_bvh_suggesting(clip, options, "--rotation-order");
+    return format_bvh_suggesting(anima::with_rotation_order(clip, anima::parse_euler_order(order)), options, {});
 }
 
 std::string rotation_order_summary(const skeleton_t& skeleton) {

@@ -210,6 +210,26 @@ anima::signed_axis parse_signed_axis(std::string_view text);
 CLI::Validator signed_axis_validator();
 CLI::Validator euler_order_validator();
 
+/// Adds --rotation-order ORDER (or another name): give every joint with
+/// rotation channels three, in that order, before the clip is written. The
+/// choices are the names of anima::euler_order.
+CLI::Option* add_rotation_order_option(CLI::App& sub, std::string& order,
+                                       const std::string& name = "--rotation-order");
+
+/// anima::format_bvh(clip, options). When a joint's channels cannot spell
+/// its rotations (one or two rotation channels, and the motion turns it
+/// about another axis), throws failure with the library's message and that
+/// `option` gives every joint three rotation channels; with `option` empty
+/// (it was given) the library's error as it is.
+std::string format_bvh_suggesting(const clip_t& clip, const anima::bvh_write_options& options,
+                                  std::string_view option);
+
+/// The BVH text of a clip a command made: its joints given three rotation
+/// channels in `order` first (anima::with_rotation_order) unless `order` is
+/// empty, in which case a joint that cannot spell its rotations is reported
+/// as format_bvh_suggesting does, naming --rotation-order.
+std::string bvh_text(const clip_t& clip, const std::string& order, const anima::bvh_write_options& options = {});
+
 /// Adds --up AXIS (or another axis option), an empty string when not given.
 CLI::Option* add_up_option(CLI::App& sub, std::string& up,
                            const std::string& help = "The clip's up axis, instead of the one guessed from the skeleton",
