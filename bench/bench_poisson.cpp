@@ -6,7 +6,11 @@
 //   multigrid_reused/N   the same hierarchy solving again (precompute/solve split)
 //   dst/N                anima::dst_poisson (transforms planned beforehand)
 //   fftw_dst/N           FFTW's RODFT00 in 2D (planned beforehand), when FFTW is installed
-//   eigen_cg/N           Eigen::ConjugateGradient (diagonal preconditioner)
+//   cg_poisson/N         anima::cg_poisson (diagonal preconditioner), built and solved: the
+//                        assembly, Eigen's CG on b scaled by a power of two, the grid's residual
+//   cg_poisson_ic/N      the same with cg_preconditioner::incomplete_cholesky
+//   eigen_cg/N           Eigen::ConjugateGradient (diagonal preconditioner) on the system
+//                        assembled beforehand, b as it is: cg_poisson's CG without anima's work
 //   eigen_cg_ic/N        Eigen::ConjugateGradient with IncompleteCholesky (factorisation timed too)
 //   seam_smoothing/...   anima::smooth_seams on the bundled CMU walk stitched to itself
 //
@@ -16,9 +20,10 @@
 // against 1e-10) with anima::relative_residual, and the program aborts if
 // one fails. Counters: per_unknown (CPU time / N^2), iterations, residual.
 //
-// Sizes: N = 65 to 513 by default, Eigen CG up to 257 (a brief run stays
-// well under half a minute); ANIMA_BENCH_POISSON_MAX=2049 runs every solver
-// on every size up to 2049 (Eigen CG then takes minutes).
+// Sizes: N = 65 to 513 by default, the CG rows (anima's and Eigen's) up to
+// 257 (a brief run stays well under half a minute);
+// ANIMA_BENCH_POISSON_MAX=2049 runs every solver on every size up to 2049
+// (CG then takes minutes).
 #include <anima/bvh/reader.hpp>
 #include <anima/core/random.hpp>
 #include <anima/poisson.hpp>
@@ -164,6 +169,25 @@ void fftw_dst(benchmark::State& state, Eigen::Index n) {
 }
 #endif
 
+// One use of anima's CG: the system assembled and the preconditioner set up
+// (the constructor), then solve(). Against eigen_cg, which times Eigen's
+// compute() and solve(), it adds the assembly, the scaling of b by a power
+// of two and back, the expansion to the grid and the residual on the grid.
+void cg(benchmark::State& state, Eigen::Index n, anima::cg_preconditioner preconditioner) {
+    const auto& p = problem(n);
+    anima::cg_poisson<double>::params prm;
+    prm.tolerance = tolerance;
+    prm.preconditioner = preconditioner;
+    const auto solve = [&] { return anima::cg_poisson<double>(p, prm).solve(); };
+    anima::poisson_result<double> r = solve();
+    check(p, r.u, tolerance * 1.01, "cg_poisson");
+    for (auto _ : state) {
+        r = solve();
+        benchmark::DoNotOptimize(r.u.data());
+    }
+    report(state, n, r.iterations, r.relative_residual);
+}
+
 template <class Preconditioner>
 void eigen_cg(benchmark::State& state, Eigen::Index n) {
     const auto& p = problem(n);
@@ -239,6 +263,10 @@ int register_all() {
         benchmark::RegisterBenchmark(("fftw_dst" + s).c_str(), fftw_dst, n)->Unit(unit);
 #endif
         if (n > max_cg) continue;
+        benchmark::RegisterBenchmark(("cg_poisson" + s).c_str(), cg, n, anima::cg_preconditioner::diagonal)->Unit(unit);
+        benchmark::RegisterBenchmark(("cg_poisson_ic" + s).c_str(), cg, n,
+                                     anima::cg_preconditioner::incomplete_cholesky)
+            ->Unit(unit);
         benchmark::RegisterBenchmark(("eigen_cg" + s).c_str(), eigen_cg<Eigen::DiagonalPreconditioner<double>>, n)
             ->Unit(unit);
         benchmark::RegisterBenchmark(("eigen_cg_ic" + s).c_str(), eigen_cg<Eigen::IncompleteCholesky<double>>, n)
