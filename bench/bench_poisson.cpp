@@ -9,6 +9,7 @@
 //   cg_poisson/N         anima::cg_poisson (diagonal preconditioner), built and solved: the
 //                        assembly, Eigen's CG on b scaled by a power of two, the grid's residual
 //   cg_poisson_ic/N      the same with cg_preconditioner::incomplete_cholesky
+//   cg_poisson_reused/N  a cg_poisson (diagonal) built beforehand solving again: solve() alone
 //   eigen_cg/N           Eigen::ConjugateGradient (diagonal preconditioner) on the system
 //                        assembled beforehand, b as it is: cg_poisson's CG without anima's work
 //   eigen_cg_ic/N        Eigen::ConjugateGradient with IncompleteCholesky (factorisation timed too)
@@ -188,6 +189,23 @@ void cg(benchmark::State& state, Eigen::Index n, anima::cg_preconditioner precon
     report(state, n, r.iterations, r.relative_residual);
 }
 
+// solve() alone on a cg_poisson built beforehand: Eigen's CG, the scaling of
+// b, the expansion and the residual (eigen_cg's compute() with the diagonal
+// preconditioner only reads the diagonal).
+void cg_reused(benchmark::State& state, Eigen::Index n) {
+    const auto& p = problem(n);
+    anima::cg_poisson<double>::params prm;
+    prm.tolerance = tolerance;
+    const anima::cg_poisson<double> solver(p, prm);
+    anima::poisson_result<double> r = solver.solve();
+    check(p, r.u, tolerance * 1.01, "cg_poisson_reused");
+    for (auto _ : state) {
+        r = solver.solve();
+        benchmark::DoNotOptimize(r.u.data());
+    }
+    report(state, n, r.iterations, r.relative_residual);
+}
+
 template <class Preconditioner>
 void eigen_cg(benchmark::State& state, Eigen::Index n) {
     const auto& p = problem(n);
@@ -267,6 +285,7 @@ int register_all() {
         benchmark::RegisterBenchmark(("cg_poisson_ic" + s).c_str(), cg, n,
                                      anima::cg_preconditioner::incomplete_cholesky)
             ->Unit(unit);
+        benchmark::RegisterBenchmark(("cg_poisson_reused" + s).c_str(), cg_reused, n)->Unit(unit);
         benchmark::RegisterBenchmark(("eigen_cg" + s).c_str(), eigen_cg<Eigen::DiagonalPreconditioner<double>>, n)
             ->Unit(unit);
         benchmark::RegisterBenchmark(("eigen_cg_ic" + s).c_str(), eigen_cg<Eigen::IncompleteCholesky<double>>, n)
