@@ -115,7 +115,7 @@ frame_targets collect_targets(const ik_options& o, const clip_t& c) {
         if (!parse_frame(o.frames.substr(0, dash), first) ||
             !parse_frame(dash == std::string::npos ? o.frames : o.frames.substr(dash + 1), last))
             throw CLI::ValidationError("--frames", "expected A-B (two frame numbers, A <= B), got '" +
-                                                       anima::detail::escape_for_message(o.frames, 60) + "'");
+                                                       anima::escape_for_message(o.frames, 60) + "'");
         if (first > last)
             throw CLI::ValidationError("--frames", o.frames + " is reversed: the first frame comes after the last (use " +
                                                        std::to_string(last) + "-" + std::to_string(first) + ")");

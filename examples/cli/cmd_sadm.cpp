@@ -210,7 +210,7 @@ void write_figure(const std::string& path, const anima::sadm_model<double>& mode
         const auto& lm = f.landmarks[k];
         landmarks_t noisy = lm;
         for (Eigen::Index p = 0; p < noisy.rows(); ++p)
-            for (int c = 0; c < 2; ++c) noisy(p, c) += noise * anima::detail::standard_normal(rng);
+            for (int c = 0; c < 2; ++c) noisy(p, c) += noise * rng.normal();
         const Eigen::Index x0 = std::max<Eigen::Index>(0, static_cast<Eigen::Index>(lm.col(0).minCoeff()) - 8);
         const Eigen::Index y0 = std::max<Eigen::Index>(0, static_cast<Eigen::Index>(lm.col(1).minCoeff()) - 8);
         const Eigen::Index x1 = std::min<Eigen::Index>(img.cols(), static_cast<Eigen::Index>(lm.col(0).maxCoeff()) + 9);

@@ -116,7 +116,7 @@ CLI::Validator integer_in(long long lo, long long hi) {
                     std::abs(d) < 9e18 && !std::isspace(static_cast<unsigned char>(value[0])))
                     return "'" + value + "' is not an integer: write it in digits (" +
                            std::to_string(static_cast<long long>(d)) + ")";
-                return "'" + anima::detail::escape_for_message(value, 60) + "' is not an integer";
+                return "'" + anima::escape_for_message(value, 60) + "' is not an integer";
             }
             // CLI11 reads "010" as octal eight: refuse rather than guess.
             if (value.size() - k > 1 && value[k] == '0')
@@ -167,7 +167,7 @@ CLI::Validator number_in(double lo, double hi, bool lo_open, bool hi_open) {
             errno = 0;
             const double v = std::strtod(begin, &end);
             if (value.empty() || end != begin + value.size() || std::isspace(static_cast<unsigned char>(value[0])))
-                return "'" + anima::detail::escape_for_message(value, 60) + "' is not a number";
+                return "'" + anima::escape_for_message(value, 60) + "' is not a number";
             if (!std::isfinite(v)) return value + " is not finite";
             const bool above = lo_open ? v > lo : v >= lo;
             const bool below = hi_open ? v < hi : v <= hi;

@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
         for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
             known = known || sub->check_name(name);
         if (!known) {
-            std::cerr << "anima: '" << anima::detail::escape_for_message(name, 100)
+            std::cerr << "anima: '" << anima::escape_for_message(name, 100)
                       << "' is not a subcommand; run 'anima --help' for the list\n";
             return 2;
         }
@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
         for (std::size_t begin = 0; begin <= what.size();) {
             const std::size_t end = std::min(what.find('\n', begin), what.size());
             if (begin) shown += '\n';
-            shown += anima::detail::escape_for_message(std::string_view(what).substr(begin, end - begin), 4000);
+            shown += anima::escape_for_message(std::string_view(what).substr(begin, end - begin), 4000);
             begin = end + 1;
         }
         std::cerr << "anima: " << shown << '\n';

@@ -66,7 +66,7 @@ json point_json(const vec3& q) { return json::array({mm(q.x()), mm(q.y()), mm(q.
 /// drawn as the foot.
 std::vector<std::size_t> foot_points(const skeleton_t& sk, const clip_points& pts, std::size_t joint) {
     std::vector<std::size_t> out;
-    for (const auto& p : anima::detail::foot_points_of(sk, joint)) out.push_back(p.end_site ? pts.end_site_point[p.joint] : p.joint);
+    for (const auto& p : anima::foot_points_of(sk, joint)) out.push_back(p.end_site ? pts.end_site_point[p.joint] : p.joint);
     return out;
 }
 

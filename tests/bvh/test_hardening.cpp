@@ -269,7 +269,7 @@ TEST_CASE("write_bvh goes through the atomic writer: a failed write keeps the ol
 // ---------------------------------------------------------------------------
 
 TEST_CASE("escape_for_message escapes control bytes and invalid UTF-8 and keeps valid UTF-8") {
-    using anima::detail::escape_for_message;
+    using anima::escape_for_message;
     CHECK(escape_for_message(std::string("a\0b", 3)) == "a\\x00b");
     CHECK(escape_for_message("tab\tstays, bell\a and DEL\x7f go") == "tab\tstays, bell\\x07 and DEL\\x7f go");
     CHECK(escape_for_message("line\nbreak\r") == "line\\x0abreak\\x0d");

@@ -342,3 +342,27 @@ TEST_CASE("find_contacts on float mocap with subnormal components: double's cont
     CHECK(resampled.frames() == anima::resample(d, 1.0 / 30).frames());
     CHECK(std::isfinite(skate.mean));
 }
+
+TEST_CASE_TEMPLATE("foot_points_of: the foot's subtree, each joint then its End Site, parents first", T, float, double) {
+    using vec3 = Eigen::Matrix<T, 3, 1>;
+    anima::skeleton<T> sk;
+    const auto hips = sk.add_joint("Hips", -1, vec3::Zero());
+    const auto foot = sk.add_joint("LeftFoot", static_cast<int>(hips), vec3(T(0.1), T(-0.8), T(0)));
+    const auto spine = sk.add_joint("Spine", static_cast<int>(hips), vec3(T(0), T(0.2), T(0)));
+    const auto toe = sk.add_joint("LeftToe", static_cast<int>(foot), vec3(T(0), T(-0.05), T(0.1)));
+    const auto heel = sk.add_joint("LeftHeel", static_cast<int>(foot), vec3(T(0), T(-0.05), T(-0.05)));
+    sk.set_end_site(toe, vec3(T(0), T(0), T(0.05)));
+    sk.set_end_site(spine, vec3(T(0), T(0.3), T(0)));
+    const auto points = anima::foot_points_of(sk, foot);
+    REQUIRE(points.size() == 4);
+    const std::pair<std::size_t, bool> expected[] = {{foot, false}, {toe, false}, {toe, true}, {heel, false}};
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        CHECK(points[i].joint == expected[i].first);
+        CHECK(points[i].end_site == expected[i].second);
+    }
+    const auto leaf = anima::foot_points_of(sk, toe);  // a joint with an End Site only
+    REQUIRE(leaf.size() == 2);
+    CHECK((leaf[0].joint == toe && !leaf[0].end_site && leaf[1].joint == toe && leaf[1].end_site));
+    CHECK_THROWS_WITH_AS(anima::foot_points_of(sk, 5), doctest::Contains("joint 5 is outside the skeleton (5 joints)"),
+                         anima::invalid_argument);
+}

@@ -65,7 +65,7 @@ std::string format_bvh(const bvh_document<T>& doc, const bvh_write_options& opti
     if (sk.empty()) throw invalid_argument("anima::format_bvh: the skeleton has no joints");
     for (const auto& j : sk.joints())
         if (!detail::bvh_writable_name(j.name))
-            throw invalid_argument("anima::format_bvh: joint name '" + detail::escape_for_message(j.name) +
+            throw invalid_argument("anima::format_bvh: joint name '" + escape_for_message(j.name) +
                                    "' cannot be written to BVH (braces, line breaks or edge spaces)");
     const std::size_t nc = sk.channel_count();
     if (doc.values.size() != doc.frames * nc)

@@ -88,7 +88,7 @@ E parse_enum(std::string_view name, std::string_view function = "anima::parse_en
         if (ascii_equal_ignoring_case(name, e.name)) return e.value;
     const std::string what = enum_names<E>::what;
     const bool vowel = !what.empty() && std::string_view("aeiouAEIOU").find(what[0]) != std::string_view::npos;
-    throw invalid_argument(std::string(function) + ": '" + detail::escape_for_message(name, 200) + "' is not " +
+    throw invalid_argument(std::string(function) + ": '" + escape_for_message(name, 200) + "' is not " +
                            (vowel ? "an " : "a ") + what + ": use " + enum_choices<E>());
 }
 

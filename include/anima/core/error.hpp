@@ -10,7 +10,6 @@
 #include <utility>
 
 namespace anima {
-namespace detail {
 
 /// Text from a file made safe to print in a message: control characters,
 /// NUL and bytes that are not valid UTF-8 become \xNN (a tab stays a tab),
@@ -69,8 +68,6 @@ inline std::string escape_for_message(std::string_view text, std::size_t max_byt
     return out;
 }
 
-}  // namespace detail
-
 /// Base of every exception anima throws.
 class error : public std::runtime_error {
 public:
@@ -91,8 +88,8 @@ public:
 class parse_error : public error {
 public:
     parse_error(std::string file, std::size_t line, const std::string& message)
-        : error(detail::escape_for_message(file) + ":" + std::to_string(line) + ": " +
-                detail::escape_for_message(message)),
+        : error(escape_for_message(file) + ":" + std::to_string(line) + ": " +
+                escape_for_message(message)),
           file_(std::move(file)),
           line_(line),
           message_(message) {}

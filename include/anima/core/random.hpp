@@ -3,6 +3,7 @@
 // standard distributions are not, so the conversions to numbers are ours.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <random>
 
@@ -26,6 +27,14 @@ public:
 
     /// The next raw 64-bit value.
     std::uint64_t raw() { return engine_(); }
+
+    /// A standard normal sample (Box-Muller on two uniforms): the same
+    /// stream on every platform, unlike std::normal_distribution.
+    double normal() {
+        const double u = 1.0 - uniform();  // (0, 1]: the logarithm stays finite
+        const double v = uniform();
+        return std::sqrt(-2.0 * std::log(u)) * std::cos(6.283185307179586476925 * v);
+    }
 
 private:
     std::mt19937_64 engine_;

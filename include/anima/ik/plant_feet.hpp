@@ -300,7 +300,7 @@ plant_feet_result<T> plant_feet_checked(const clip<T>& c, const contact_set<T>& 
         return v;
     };
     // A foot point is the joint's position or its End Site's.
-    const auto point = [&](std::size_t f, detail::foot_point p) -> const vector3& {
+    const auto point = [&](std::size_t f, foot_point p) -> const vector3& {
         return p.end_site ? points[f][p.joint] : poses[f].positions[p.joint];
     };
     const T reach = params.max_correction * contacts.body_height;
@@ -325,7 +325,7 @@ plant_feet_result<T> plant_feet_checked(const clip<T>& c, const contact_set<T>& 
     for (std::size_t i = 0; i < contacts.feet.size(); ++i) {
         const auto& foot = contacts.feet[i];
         if (!detail::has_leg(sk, foot.joint)) continue;
-        const auto foot_points = detail::foot_points_of(sk, foot.joint);  // in measure_feet's order
+        const auto foot_points = foot_points_of(sk, foot.joint);  // in measure_feet's order
         const auto& fp = measured[i];
         // The stretches of the touched runs where the foot is not stepping,
         // and in each of their frames the point that carries the weight.
@@ -346,7 +346,7 @@ plant_feet_result<T> plant_feet_checked(const clip<T>& c, const contact_set<T>& 
             vector3 slid = vector3::Zero();
             correction[stances[r].first][i] = vector3::Zero();
             for (std::size_t f = stances[r].first + 1; f <= stances[r].last; ++f) {
-                const detail::foot_point bearing = foot_points[carrier[f]];
+                const foot_point bearing = foot_points[carrier[f]];
                 slid += flat(point(f, bearing) - point(f - 1, bearing));
                 if (slid.norm() > reach) slid *= reach / slid.norm();
                 const std::size_t k = f - stances[r].first;

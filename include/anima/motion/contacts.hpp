@@ -133,21 +133,32 @@ std::vector<std::size_t> subtree(const skeleton<T>& sk, std::size_t root) {
     return out;
 }
 
-/// A foot's points: its joints and their End Sites.
+}  // namespace detail
+
+/// One of a foot's points: a joint of its subtree or that joint's End Site.
 struct foot_point {
     std::size_t joint = 0;
     bool end_site = false;  ///< the joint's End Site rather than the joint
 };
 
+/// The points that make up the foot at joint `foot`, the ones contacts are
+/// measured on (the lowest of them touches the ground): every joint of its
+/// subtree, each followed by its End Site if it has one, parents first.
+/// Throws anima::invalid_argument for a joint outside the skeleton.
 template <class T>
 std::vector<foot_point> foot_points_of(const skeleton<T>& sk, std::size_t foot) {
+    if (foot >= sk.size())
+        throw invalid_argument("anima::foot_points_of: joint " + std::to_string(foot) + " is outside the skeleton (" +
+                               std::to_string(sk.size()) + " joints)");
     std::vector<foot_point> out;
-    for (const std::size_t j : subtree(sk, foot)) {
+    for (const std::size_t j : detail::subtree(sk, foot)) {
         out.push_back({j, false});
         if (sk[j].end_site) out.push_back({j, true});
     }
     return out;
 }
+
+namespace detail {
 
 /// Where a foot point is in a pose.
 template <class T>

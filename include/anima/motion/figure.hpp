@@ -50,7 +50,7 @@ inline std::optional<signed_axis> try_parse_signed_axis(std::string_view text) {
 /// text for anything that is not a signed axis.
 inline signed_axis parse_signed_axis(std::string_view text) {
     if (const auto a = try_parse_signed_axis(text)) return *a;
-    throw invalid_argument("anima::parse_signed_axis: '" + detail::escape_for_message(text, 200) +
+    throw invalid_argument("anima::parse_signed_axis: '" + escape_for_message(text, 200) +
                            "' is not a signed axis: use +X, -X, +Y, -Y, +Z or -Z (the sign optional, any case)");
 }
 

@@ -53,7 +53,7 @@ inline std::optional<channel> try_parse_channel(std::string_view s) {
 /// for anything that is not a channel name.
 inline channel parse_channel(std::string_view s) {
     if (const auto c = try_parse_channel(s)) return *c;
-    throw invalid_argument("anima::parse_channel: '" + detail::escape_for_message(s, 200) +
+    throw invalid_argument("anima::parse_channel: '" + escape_for_message(s, 200) +
                            "' is not a BVH channel: use Xposition, Yposition, Zposition, Xrotation, Yrotation or "
                            "Zrotation (any case)");
 }

@@ -8,7 +8,6 @@
 #include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/random.hpp>
-#include <anima/sadm/detail/gaussian.hpp>
 #include <anima/sadm/evaluation.hpp>
 #include <anima/sadm/sadm_model.hpp>
 
@@ -83,7 +82,7 @@ sadm_evaluation<T> evaluate_sadm(const sadm_model<T>& model, const std::vector<I
         landmark_set<T> input = landmarks[k];
         if (options.noise > T(0))
             for (Eigen::Index p = 0; p < input.rows(); ++p)
-                for (int c = 0; c < 2; ++c) input(p, c) += options.noise * static_cast<T>(detail::standard_normal(rng));
+                for (int c = 0; c < 2; ++c) input(p, c) += options.noise * static_cast<T>(rng.normal());
         const auto bg_real = grey.parameters(grey.sample(img, landmarks[k]));
         const auto bg = model.grey_parameters(model.shape_parameters(input));
         real.row(i) = bg_real.transpose();

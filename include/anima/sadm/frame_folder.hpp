@@ -49,7 +49,7 @@ struct frame_split {
 /// Throws anima::invalid_argument naming the spec for anything else.
 inline frame_split parse_frame_split(std::string_view spec) {
     if (spec.empty()) return {};
-    const std::string who = "anima::parse_frame_split: '" + detail::escape_for_message(spec, 200) + "'";
+    const std::string who = "anima::parse_frame_split: '" + escape_for_message(spec, 200) + "'";
     const std::size_t colon = spec.find(':');
     const std::string_view kind = spec.substr(0, colon);
     const std::string_view digits = colon == std::string_view::npos ? std::string_view() : spec.substr(colon + 1);
