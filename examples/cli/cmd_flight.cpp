@@ -196,6 +196,8 @@ void run_flight(const flight_options& o) {
     for (std::size_t k = 0; k < r.initial.times.size(); ++k)
         std::cout << "  " << k + 1 << (k + 1 < 10 ? "    " : "   ") << format_fixed(r.initial.times[k], 3) << "        "
                   << format_fixed(r.optimized.times[k], 3) << "\n";
+    if (!o.output.empty()) report_written(o.output + " (the optimised flight)");
+    if (!o.plot.empty()) report_written(o.plot + ": initial and optimised key times");
     if (!o.view.empty()) report_written(page_written);
 }
 

@@ -296,6 +296,8 @@ void run_ik(const ik_options& o) {
               << ": " << solved.converged_frames << " converged, largest error " << format_number(solved.largest_error, 3)
               << " (tolerance " << format_number(s.params.tolerance, 3) << "), " << solved.iterations << " iterations, "
               << format_number(seconds, 3) << " s\n";
+    if (!o.output.empty()) report_written(o.output + " (the edited motion)");
+    if (!o.model_out.empty()) report_written(o.model_out + " (the learned model)");
     if (!o.view.empty()) report_written(page_written);
 }
 
