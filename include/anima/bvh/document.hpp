@@ -107,8 +107,12 @@ void encode_rotation(const quat4<T>& q, const std::vector<axis>& axes, const T* 
     }
     if (axes.size() == 1) {
         const T s = axes[0] == axis::x ? q.x : axes[0] == axis::y ? q.y : q.z;
-        // Any other vector component is rotation about another axis.
-        if (std::sqrt(std::max(T(0), dot4(q, q) - q.w * q.w - s * s)) > tolerance) fail();
+        // Any other vector component is rotation about another axis. Their
+        // own length, not |q|^2 - w^2 - s^2: that difference leaves the
+        // rounding of the squares, whose square root (1e-8 in double) would
+        // refuse every rotation about the channel's own axis.
+        const T other0 = axes[0] == axis::x ? q.y : q.x, other1 = axes[0] == axis::z ? q.y : q.z;
+        if (std::hypot(other0, other1) > tolerance) fail();
         T a = degrees(T(2) * std::atan2(s, q.w));
         a = std::remainder(a, T(360));
         out[0] = previous && continuous ? unwrap_degrees(a, previous[0]) : a;
