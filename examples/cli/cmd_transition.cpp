@@ -133,23 +133,30 @@ void run_transition(const transition_options& o) {
                                  format_number(1 / a.frame_time()) + " frames per second",
                              "--min-duration");
 
+    anima::transition_between_params<double> p;
+    p.method = anima::parse_enum<anima::transition_method>(o.method);
+    p.variable.timing.min_duration = o.min_duration;
+    p.variable.timing.max_duration = o.max_duration;
+    p.variable.timing.model = anima::parse_enum<anima::timing_model>(o.timing);
+    p.crossfade_time = o.crossfade;
+    p.halflife = o.halflife;
+    p.plant_feet = !o.no_plant_feet;
+    p.feet.root_from_feet = o.root_from_feet;
+    p.feet.root_speed_band = o.root_speed_band;
+    const auto r = anima::transition_between(a, o.at, b, o.to, p);
+    const anima::joined_clip<double>& joined = r.joined;
+
     json out = {{"a", o.a}, {"b", o.b}, {"at", o.at}, {"to", o.to}, {"method", o.method}};
-    anima::joined_clip<double> joined;
-    if (o.method == "variable") {
-        anima::transition_params params;
-        params.timing.min_duration = o.min_duration;
-        params.timing.max_duration = o.max_duration;
-        params.timing.model = anima::parse_enum<anima::timing_model>(o.timing);
-        const auto t = anima::make_transition(a, o.at, b, o.to, params);
-        joined = anima::join(a, o.at, t);
-        out["duration"] = t.duration;
-        out["unclamped_duration"] = t.timing.unclamped;
-        out["limiting_joint"] = a.skeleton()[t.timing.limiting_joint].name;
-        out["classes"] = {{"a", anima::to_string(t.class_a.type)}, {"b", anima::to_string(t.class_b.type)}};
-        out["parameter"] = anima::to_string(t.parameter);
-        out["root_path"] = t.flight ? "Eq 13 (gravity)" : params.continuous_root ? "Hermite to B's velocity" : "Eq 12";
+    out["duration"] = a.frame_time() * static_cast<double>(joined.end_frame - joined.start_frame);
+    if (const auto& t = r.variable) {
+        out["duration"] = t->duration;
+        out["unclamped_duration"] = t->timing.unclamped;
+        out["limiting_joint"] = a.skeleton()[t->timing.limiting_joint].name;
+        out["classes"] = {{"a", anima::to_string(t->class_a.type)}, {"b", anima::to_string(t->class_b.type)}};
+        out["parameter"] = anima::to_string(t->parameter);
+        out["root_path"] = t->flight ? "Eq 13 (gravity)" : p.variable.continuous_root ? "Hermite to B's velocity" : "Eq 12";
         json joints = json::array();
-        for (const auto& jt : t.timing.joints)
+        for (const auto& jt : t->timing.joints)
             joints.push_back({{"name", a.skeleton()[jt.joint].name},
                               {"role", anima::to_string(jt.role)},
                               {"key", jt.key},
@@ -157,41 +164,26 @@ void run_transition(const transition_options& o) {
                               {"speed_a", jt.speed_a},
                               {"speed_b", jt.speed_b},
                               {"t", jt.time},
-                              {"method", anima::to_string(t.methods[jt.joint])}});
+                              {"method", anima::to_string(t->methods[jt.joint])}});
         out["joints"] = joints;
-    } else {
-        if (o.method == "cut") joined = anima::direct_cut(a, o.at, b, o.to);
-        else if (o.method == "crossfade") joined = anima::crossfade(a, o.at, b, o.to, o.crossfade);
-        else joined = anima::inertialize(a, o.at, b, o.to, o.halflife);
-        out["duration"] = a.frame_time() * static_cast<double>(joined.end_frame - joined.start_frame);
     }
-    // Feet on the ground through the window stay planted (all methods).
-    const auto roles = anima::joint_roles(a.skeleton());
-    const auto up = anima::guess_up_axis(a.skeleton()).up;
-    const double mpu = anima::guess_units(a.skeleton(), up).metres_per_unit;
-    const auto as_joined = anima::measure_transition(joined, roles, up, mpu);
-    const auto unplanted = joined;
-    anima::transition_feet_params<double> feet;
-    feet.root_from_feet = o.root_from_feet;
-    feet.root_speed_band = o.root_speed_band;
-    if (!o.no_plant_feet) joined = anima::plant_transition_feet(joined, feet);
-    const auto as_written = o.no_plant_feet ? as_joined : anima::measure_transition(joined, roles, up, mpu);
     const auto skate = [](const anima::transition_quality<double>& q) {
         return json{{"window", q.foot_skate_window}, {"clips", q.foot_skate_clips}, {"ratio", q.foot_skate_ratio}};
     };
-    out["feet_planted"] = !o.no_plant_feet;
-    out["root_from_feet"] = !o.no_plant_feet && o.root_from_feet;
-    out["foot_skate"] = skate(as_written);
-    out["root_speed"] = {{"min", as_written.root_speed_min},
-                         {"ends", as_written.root_speed_ends},
-                         {"ratio", as_written.root_speed_ratio}};
-    out["root_speed_band"] = o.no_plant_feet ? 0.0 : o.root_speed_band;
-    if (!o.no_plant_feet) out["foot_skate_unplanted"] = skate(as_joined);
+    out["feet_planted"] = p.plant_feet;
+    out["root_from_feet"] = p.plant_feet && o.root_from_feet;
+    out["foot_skate"] = skate(r.quality);
+    out["root_speed"] = {{"min", r.quality.root_speed_min},
+                         {"ends", r.quality.root_speed_ends},
+                         {"ratio", r.quality.root_speed_ratio}};
+    out["root_speed_band"] = p.plant_feet ? o.root_speed_band : 0.0;
+    if (p.plant_feet) out["foot_skate_unplanted"] = skate(r.unplanted_quality);
     if (!o.feet_plot.empty()) {
         write_feet_plot(o.feet_plot,
                         "Feet through the " + o.method + " transition " + file_name(o.a) + " frame " + std::to_string(o.at) +
                             " -> " + file_name(o.b) + " frame " + std::to_string(o.to),
-                        unplanted, o.no_plant_feet ? nullptr : &joined, as_joined.foot_skate_ratio, as_written.foot_skate_ratio);
+                        r.unplanted, p.plant_feet ? &joined : nullptr, r.unplanted_quality.foot_skate_ratio,
+                        r.quality.foot_skate_ratio);
         out["feet_plot"] = o.feet_plot;
     }
     out["start_frame"] = joined.start_frame;
@@ -245,7 +237,7 @@ void register_transition(CLI::App& app) {
                     "Plot each foot's height and skate through the window, before and after planting (SVG)")
         ->type_name("OUT.svg");
     add_setting(*sub, "--method", opts->method, "variable (the paper's method), cut, crossfade or inertialize",
-                CLI::IsMember({"variable", "cut", "crossfade", "inertialize"}));
+                CLI::IsMember(anima::enum_name_list<anima::transition_method>()));
     add_setting(*sub, "--timing", opts->timing,
                 "t_i from mean angular speeds (velocity) or accelerations (acceleration)",
                 CLI::IsMember(anima::enum_name_list<anima::timing_model>()));

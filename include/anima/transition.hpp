@@ -9,4 +9,5 @@
 #include <anima/transition/placement.hpp>
 #include <anima/transition/plant_transition_feet.hpp>
 #include <anima/transition/timing.hpp>
+#include <anima/transition/transition_between.hpp>
 #include <anima/transition/variable_timing_transition.hpp>
