@@ -25,6 +25,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -513,16 +514,13 @@ void run_texture(texture_options o) {
     check_frames_memory(o.frames, c.skeleton());
     const double read_seconds = timer.lap();
 
-    const anima::motion_texture_params<double> p = texture_params(o, clips);
+    anima::motion_texture_params<double> p = texture_params(o, clips);
     const anima::signed_axis up = *p.texton.up;
-
-    const auto stage = [&](const char* what, double seconds) {
-        if (o.progress || seconds > 1.0) std::cerr << "anima: " << what << ": " << format_number(seconds, 3) << " s\n";
+    p.progress = [&](std::string_view stage, double seconds) {
+        if (o.progress || seconds > 1.0) std::cerr << "anima: " << stage << ": " << format_number(seconds, 3) << " s\n";
     };
-    const anima::motion_texton<double> texton = anima::make_texton(clips, p.texton);
-    stage("texton (features, search, cut, fades)", texton.timings.total);
-    const anima::motion_texture<double> t = anima::patch_texton(texton, o.frames, p);
-    stage("texture (patching, smoothing)", t.timings.patch + t.timings.smoothing);
+    const anima::motion_texture<double> t = anima::make_motion_texture(clips, o.frames, p);
+    const anima::motion_texton<double>& texton = t.texton;
 
     timer.lap();
     anima::bvh_write_options write;

@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -265,6 +266,36 @@ TEST_CASE_TEMPLATE("texture: planting holds feet across seams of the bundled run
     }
     // The frames are the same stream: planting moves legs, never the root.
     for (std::size_t f = 0; f < frames; ++f) REQUIRE(planted.motion.root_position(f) == loose.motion.root_position(f));
+}
+
+TEST_CASE_TEMPLATE("texture: progress reports each stage once, in order, with its time; the motion is the same",
+                   T, float, double) {
+    const auto c = run<T>();
+    anima::motion_texture_params<T> p;
+    p.texton = anima::fit_texton_lengths(p.texton, c.frames());
+    p.planting.enabled = false;
+    const std::size_t frames = 300;
+    const auto quiet = anima::make_motion_texture(c, frames, p);
+    std::vector<std::string> stages;
+    std::vector<double> seconds;
+    p.progress = [&](std::string_view stage, double s) {
+        stages.emplace_back(stage);
+        seconds.push_back(s);
+    };
+    const auto t = anima::make_motion_texture(std::vector<anima::clip<T>>{c}, frames, p);
+    REQUIRE(stages == std::vector<std::string>{"texton", "patch", "smoothing", "planting"});
+    CHECK(seconds[0] == t.texton.timings.total);
+    CHECK(seconds[1] == t.timings.patch);
+    CHECK(seconds[2] == t.timings.smoothing);
+    CHECK(seconds[3] == t.timings.planting);
+    REQUIRE(t.motion.frames() == quiet.motion.frames());
+    for (std::size_t i = 0; i < t.motion.rotations().size(); ++i)
+        REQUIRE(t.motion.rotations()[i].coeffs() == quiet.motion.rotations()[i].coeffs());
+    CHECK(t.motion.translations() == quiet.motion.translations());
+    // patch_texton alone reports its own stages.
+    stages.clear();
+    (void)anima::patch_texton(t.texton, frames, p);
+    CHECK(stages == std::vector<std::string>{"patch", "smoothing", "planting"});
 }
 
 TEST_CASE_TEMPLATE("texton: the loop is at least twice the overlap unless asked otherwise", T, float, double) {

@@ -51,9 +51,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -107,6 +109,11 @@ struct motion_texture_params {
     /// about 1 KiB a frame (31 joints in double) that is a million frames.
     /// The seam smoothing's frames x DOFs matrices come on top.
     double max_memory = 1024.0 * 1024.0 * 1024.0;
+    /// Called after each stage of make_motion_texture and patch_texton with
+    /// the stage's name ("texton": features, search, cut and fades; "patch",
+    /// "smoothing", "planting") and its seconds, so that a tool can report a
+    /// long run while it goes. Empty: nothing is called.
+    std::function<void(std::string_view stage, double seconds)> progress;
 };
 
 template <class T>
@@ -430,6 +437,7 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
     detail::locate_texture_seams(out, texton, frames);
     detail::turn_texture_passes(out, texton, frames, params, rp);
     out.timings.patch = clock.lap();
+    if (params.progress) params.progress("patch", out.timings.patch);
 
     // Poisson smoothing (Eq 14). The fades become fades of velocities, each
     // with one jump at its middle (texton.fade_correction); smooth_seams
@@ -440,6 +448,7 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
         detail::smooth_texture_seams(out, texton, frames, params, static_cast<int>(rp.up->axis));
 
     out.timings.smoothing = clock.lap();
+    if (params.progress) params.progress("smoothing", out.timings.smoothing);
 
     // Feet planted across the seams and turns.
     if (params.planting.enabled) {
@@ -454,6 +463,7 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
                                                     : clip_speed_limits(texton.motion).joint);
     }
     out.timings.planting = clock.lap();
+    if (params.progress) params.progress("planting", out.timings.planting);
     out.timings.total = texton.timings.total + out.timings.patch + out.timings.smoothing + out.timings.planting;
     return out;
 }
@@ -466,7 +476,9 @@ template <class T>
 motion_texture<T> make_motion_texture(const clip<T>& c, std::size_t frames, const motion_texture_params<T>& params = {}) {
     if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
     detail::check_texture_memory(c.skeleton(), frames, params.max_memory, "anima::make_motion_texture");
-    return patch_texton(make_texton(c, params.texton), frames, params);
+    const motion_texton<T> texton = make_texton(c, params.texton);
+    if (params.progress) params.progress("texton", texton.timings.total);
+    return patch_texton(texton, frames, params);
 }
 
 /// A texture of `frames` frames that loops through several clips of one
@@ -480,7 +492,9 @@ motion_texture<T> make_motion_texture(const std::vector<clip<T>>& clips, std::si
     if (frames == 0) throw invalid_argument("anima::make_motion_texture: the texture needs at least one frame (N = 0)");
     if (!clips.empty())
         detail::check_texture_memory(clips[0].skeleton(), frames, params.max_memory, "anima::make_motion_texture");
-    return patch_texton(make_texton(clips, params.texton), frames, params);
+    const motion_texton<T> texton = make_texton(clips, params.texton);
+    if (params.progress) params.progress("texton", texton.timings.total);
+    return patch_texton(texton, frames, params);
 }
 
 }  // namespace anima
