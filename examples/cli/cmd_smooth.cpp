@@ -11,8 +11,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <algorithm>
-#include <cmath>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -42,20 +40,16 @@ void run_smooth(const smooth_options& o) {
     prm.dof_sides = anima::parse_boundary(o.dof_sides);
     const auto result = anima::smooth_seams(c, o.seams, prm);
 
-    const auto layout = anima::make_dof_layout(c);
-    const Eigen::MatrixXd before = anima::to_dof_matrix(c, layout);
-    const Eigen::MatrixXd after = anima::to_dof_matrix(result.motion, layout);
-    const auto change = anima::largest_dof_change(before, after, layout);
-    const double drift_rot = change.rotation * 180 / anima::pi<double>, drift_tr = change.translation;
+    const auto measures = anima::measure_smoothing(c, result.motion, o.seams);
+    const auto& layout = measures.layout;
+    const double degrees = 180 / anima::pi<double>;
+    const double drift_rot = measures.largest_change.rotation * 180 / anima::pi<double>;
+    const double drift_tr = measures.largest_change.translation;
 
     json seams = json::array();
-    std::vector<std::size_t> sorted = o.seams;
-    std::sort(sorted.begin(), sorted.end());
-    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-    for (std::size_t s : sorted) {
-        const auto b = anima::measure_seam_jump(before, s, layout), a = anima::measure_seam_jump(after, s, layout);
-        const double degrees = 180 / anima::pi<double>;
-        seams.push_back({{"frame", s},
+    for (std::size_t i = 0; i < measures.seams.size(); ++i) {
+        const auto &b = measures.before[i], &a = measures.after[i];
+        seams.push_back({{"frame", measures.seams[i]},
                          {"rotation_jump_before", b.rotation * degrees},
                          {"rotation_jump_after", a.rotation * degrees},
                          {"translation_jump_before", b.translation},
@@ -78,7 +72,7 @@ void run_smooth(const smooth_options& o) {
     }
     warn_unconverged(result.stats);
     if (o.json) return print_json(out);
-    std::cout << "smoothed " << sorted.size() << " seam" << (sorted.size() == 1 ? "" : "s") << " of "
+    std::cout << "smoothed " << measures.seams.size() << " seam" << (measures.seams.size() == 1 ? "" : "s") << " of "
               << file_name(o.input) << " (" << c.frames() << " frames, " << layout.size() << " DOFs), "
               << anima::to_string(prm.form) << " form, " << anima::to_string(prm.solver) << ": "
               << result.stats.solves << " solve" << (result.stats.solves == 1 ? "" : "s") << ", relative residual <= "

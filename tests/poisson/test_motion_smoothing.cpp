@@ -190,6 +190,52 @@ TEST_CASE("a stitched CMU walk is smoothed at the seam and kept elsewhere") {
     CHECK((c.root_position(0) - out.motion.root_position(0)).norm() < 1e-9);
 }
 
+TEST_CASE_TEMPLATE("measure_smoothing: each seam's jump before and after, and the largest change", T, double, float) {
+    using mat = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const auto walk = anima::read_bvh<T>(std::string(ANIMA_TEST_DATA_DIR) + "/walk_cmu31_02_01.bvh");
+    auto c = walk.slice(0, 120);
+    c.append(walk.slice(200, 260));
+    c.append(walk.slice(60, 120));  // jumps at frames 120 and 180
+    const auto out = anima::smooth_seams(c, {180, 120});
+    // Seams given out of order and twice are measured once each, in order.
+    const auto m = anima::measure_smoothing(c, out.motion, {180, 120, 180});
+    REQUIRE(m.seams == std::vector<std::size_t>{120, 180});
+    REQUIRE(m.before.size() == 2);
+    REQUIRE(m.after.size() == 2);
+    const auto layout = anima::make_dof_layout(c);
+    const mat before = anima::to_dof_matrix(c, layout), after = anima::to_dof_matrix(out.motion, layout);
+    for (std::size_t i = 0; i < 2; ++i) {
+        CAPTURE(m.seams[i]);
+        const auto b = anima::measure_seam_jump(before, m.seams[i], layout);
+        const auto a = anima::measure_seam_jump(after, m.seams[i], layout);
+        CHECK(m.before[i].rotation == b.rotation);
+        CHECK(m.before[i].worst_rotation_dof == b.worst_rotation_dof);
+        CHECK(m.before[i].translation == b.translation);
+        CHECK(m.after[i].rotation == a.rotation);
+        CHECK(m.after[i].translation == a.translation);
+        // Smoothing takes the jump out.
+        CHECK(m.before[i].rotation > T(0.1));
+        CHECK(m.after[i].rotation < T(0.01) * m.before[i].rotation);
+    }
+    const auto change = anima::largest_dof_change(before, after, layout);
+    CHECK(m.largest_change.rotation == change.rotation);
+    CHECK(m.largest_change.translation == change.translation);
+    CHECK(m.largest_change.rotation > 0);
+    CHECK(m.layout.size() == layout.size());
+    // A clip against itself: nothing changed, the jumps are the same.
+    const auto same = anima::measure_smoothing(c, c, {120});
+    CHECK(same.largest_change.rotation == 0);
+    CHECK(same.largest_change.translation == 0);
+    CHECK(same.before[0].rotation == same.after[0].rotation);
+    // Refused: other lengths, a seam outside, a clip too short.
+    CHECK_THROWS_WITH_AS(anima::measure_smoothing(c, c.slice(0, 100), {50}),
+                         doctest::Contains("anima::measure_smoothing"), anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::measure_smoothing(c, c, {c.frames()}), doctest::Contains("outside 1.."),
+                         anima::invalid_argument);
+    CHECK_THROWS_WITH_AS(anima::measure_smoothing(c.slice(0, 2), c.slice(0, 2), {1}), doctest::Contains("at least 3"),
+                         anima::invalid_argument);
+}
+
 TEST_CASE("smooth_seams rejects bad input") {
     const matd m = stitched(50, 2, {});
     CHECK_THROWS_WITH_AS(anima::smooth_seams(m, {0}), doctest::Contains("seam at frame 0"), anima::invalid_argument);

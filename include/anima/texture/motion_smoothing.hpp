@@ -314,4 +314,39 @@ smoothed_clip<T> smooth_seams(const clip<T>& c, const std::vector<std::size_t>& 
     return out;
 }
 
+/// The seams of a clip before and after smoothing, in its DOF view: per
+/// seam (sorted, each once) its jump in each, and the largest change of
+/// any frame. What `anima smooth` reports.
+template <class T>
+struct seam_smoothing_measures {
+    dof_layout<T> layout;                ///< make_dof_layout(before), the view measured in
+    std::vector<std::size_t> seams;      ///< sorted, duplicates removed
+    std::vector<seam_jump<T>> before, after;  ///< measure_seam_jump of each seam
+    dof_change<T> largest_change;        ///< largest_dof_change(before, after)
+};
+
+/// Measures `after` (smooth_seams of `before`, or any clip of its skeleton
+/// and length) against `before` at `seams`. Throws anima::invalid_argument
+/// for clips of different skeletons or lengths, fewer than 3 frames or a
+/// seam outside 1..frames-1.
+template <class T>
+seam_smoothing_measures<T> measure_smoothing(const clip<T>& before, const clip<T>& after,
+                                             const std::vector<std::size_t>& seams) {
+    if (before.skeleton() != after.skeleton() || before.frames() != after.frames())
+        throw invalid_argument("anima::measure_smoothing: the clips differ in skeleton or length (" +
+                               std::to_string(before.frames()) + " and " + std::to_string(after.frames()) +
+                               " frames)");
+    seam_smoothing_measures<T> out;
+    out.seams = detail::checked_seams(seams, before.frames(), "anima::measure_smoothing");
+    out.layout = make_dof_layout(before);
+    const Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> b = to_dof_matrix(before, out.layout),
+                                                           a = to_dof_matrix(after, out.layout);
+    for (const std::size_t s : out.seams) {
+        out.before.push_back(measure_seam_jump(b, s, out.layout));
+        out.after.push_back(measure_seam_jump(a, s, out.layout));
+    }
+    out.largest_change = largest_dof_change(b, a, out.layout);
+    return out;
+}
+
 }  // namespace anima
