@@ -39,20 +39,6 @@ std::string some_positions(const std::vector<std::size_t>& positions, std::size_
     return out;
 }
 
-/// The stream rendered (anima::render_stream), and unless --no-plant-feet
-/// the feet on the ground through a turn or jump held in place; planted_runs
-/// into `out`.
-clip_t played_clip(const playback_options& o, const motion_range& m, const std::vector<std::size_t>& stream,
-                   const std::vector<std::size_t>& events, json& out) {
-    anima::render_stream_params<double> rp;
-    rp.resequence.root = anima::parse_root_path(o.root);
-    rp.resequence.up = m.up;
-    rp.plant_feet = o.plant_feet;
-    auto rendered = anima::render_stream(m.clip, stream, events, rp);
-    if (rendered.planted_runs > 0) out["planted_runs"] = rendered.planted_runs;
-    return std::move(rendered.motion);
-}
-
 /// "feet planted in N contact runs" or "feet not planted".
 std::string planting_note(const playback_options& o, const json& out) {
     if (!o.plant_feet) return "feet not planted";
@@ -92,59 +78,61 @@ void run_playback(const playback_options& o) {
                       ".." + std::to_string(last) + ")");
     const std::size_t start = start_given ? o.start - m.first : 0;
 
-    const std::string mode = o.video_texture ? "video_texture" : o.fixed ? "fixed" : "adaptive";
+    anima::play_clip_params<double> p;
+    p.method = o.video_texture ? anima::playback_method::video_texture
+               : o.fixed       ? anima::playback_method::fixed
+                               : anima::playback_method::adaptive;
+    p.features.up = m.up;
+    p.symmetry = params;
+    p.playback.gain = o.gain;
+    p.playback.turn_penalty = o.penalty;
+    p.playback.seed = o.seed;
+    p.playback.start_frame = start;
+    p.render.resequence.root = anima::parse_root_path(o.root);
+    p.render.resequence.up = m.up;
+    p.render.plant_feet = o.plant_feet;
+    p.make_clip = !o.output.empty() || o.json || !o.view.empty();
+    anima::played_clip<double> played;
+    try {
+        played = anima::play_clip(m.clip, o.frames, p);
+    } catch (const anima::invalid_argument& e) {
+        if (std::string(e.what()).find("turning candidate") == std::string::npos) throw;
+        throw failure("'" + o.input + "' (frames " + std::to_string(m.first) + ".." + std::to_string(last) + "): " +
+                      e.what() + " (here --window, --candidate-window and --min-pairs)");
+    }
+    const std::vector<std::size_t>& stream = played.stream;
+
+    const std::string mode = anima::to_string(p.method);
     json out = {{"input", o.input}, {"mode", mode}, {"seed", o.seed}, {"root", o.root},
                 {"first", m.first}, {"last", last}, {"frames", o.frames}, {"frame_time", dt}};
-    std::vector<std::size_t> stream, events;  // events: output frames of the turns or jumps (markers, planting)
-    std::string summary;                       // the text lines about turns or jumps
+    std::string summary;  // the text lines about turns or jumps
     if (o.video_texture) {
-        const auto table = anima::video_texture_jumps(m.features, dt);
-        anima::video_texture_playback<double> playback(table, o.seed, start);
-        stream = playback.take(o.frames);
         out["metric"] = "l2";
-        out["sigma"] = table.sigma;
-        out["jumps"] = playback.jumps();
-        events = playback.jumps();
-        summary = std::to_string(playback.jumps().size()) + " jumps" +
-                  (playback.jumps().empty() ? "" : " (after output frames " + some_positions(playback.jumps()) + ")");
+        out["sigma"] = played.sigma;
+        out["jumps"] = played.events;
+        summary = std::to_string(played.events.size()) + " jumps" +
+                  (played.events.empty() ? "" : " (after output frames " + some_positions(played.events) + ")");
     } else {
-        const auto r = anima::symmetry_scores(m.features, dt, params);
-        if (r.candidates.size() < 2)
-            throw failure("'" + o.input + "' (frames " + std::to_string(m.first) + ".." + std::to_string(last) + ") has " +
-                          std::to_string(r.candidates.size()) + " turning candidate" +
-                          (r.candidates.size() == 1 ? "" : "s") + " with --window " + std::to_string(params.radius) +
-                          "; playback needs two: try a smaller --window, --candidate-window or --min-pairs, or "
-                          "more frames");
-        anima::playback_params<double> pp;
-        pp.adaptive = !o.fixed;
-        pp.gain = o.gain;
-        pp.turn_penalty = o.penalty;
-        pp.seed = o.seed;
-        pp.start_frame = start;
-        anima::symmetric_playback<double> playback(n, r.candidates, pp);
-        stream = playback.take(o.frames);
         json candidates = json::array();
-        for (const auto& c : r.candidates)
-            candidates.push_back({{"frame", m.first + c.frame},
-                                  {"probability", c.probability},
-                                  {"final_probability", playback.probability(c.frame)}});
+        for (std::size_t i = 0; i < played.candidates.size(); ++i)
+            candidates.push_back({{"frame", m.first + played.candidates[i].frame},
+                                  {"probability", played.candidates[i].probability},
+                                  {"final_probability", played.final_probabilities[i]}});
         out.update(settings_json(o.symmetry, params, n));
         if (!o.fixed) {
             out["gain"] = o.gain;
             out["penalty"] = o.penalty;
         }
         out["candidates"] = candidates;
-        out["span"] = {m.first + playback.first_turning_frame(), m.first + playback.last_turning_frame()};
-        out["turns"] = playback.turns();
-        events = playback.turns();
-        summary = std::to_string(r.candidates.size()) + " turning candidates (playback stays within frames " +
-                  std::to_string(m.first + playback.first_turning_frame()) + ".." +
-                  std::to_string(m.first + playback.last_turning_frame()) + "), " +
-                  std::to_string(playback.turns().size()) + " turns" +
-                  (playback.turns().empty() ? "" : " (at output frames " + some_positions(playback.turns()) + ")");
+        out["span"] = {m.first + played.first_turning_frame, m.first + played.last_turning_frame};
+        out["turns"] = played.events;
+        summary = std::to_string(played.candidates.size()) + " turning candidates (playback stays within frames " +
+                  std::to_string(m.first + played.first_turning_frame) + ".." +
+                  std::to_string(m.first + played.last_turning_frame) + "), " + std::to_string(played.events.size()) +
+                  " turns" + (played.events.empty() ? "" : " (at output frames " + some_positions(played.events) + ")");
     }
 
-    const auto cov = anima::coverage<double>(stream, n);
+    const auto& cov = played.coverage;
     const auto distinct = static_cast<std::size_t>(std::lround(cov.visited * static_cast<double>(n)));
     out["start"] = m.first + stream.front();
     out["coverage"] = {{"distinct", distinct}, {"fraction", cov.visited}, {"evenness", cov.evenness}};
@@ -152,8 +140,9 @@ void run_playback(const playback_options& o) {
     anima::bvh_write_options write;
     write.decimals = std::max(6, m.decimals);
     std::string page_written;
-    if (!o.output.empty() || o.json || !o.view.empty()) {
-        clip_t result = played_clip(o, m, stream, events, out);
+    if (p.make_clip) {
+        const clip_t& result = played.motion;
+        if (played.planted_runs > 0) out["planted_runs"] = played.planted_runs;
         out["feet_planted"] = o.plant_feet;
         if (!o.output.empty()) {
             write_text_file(o.output, bvh_text(result, o.rotation_order, write));
@@ -166,8 +155,8 @@ void run_playback(const playback_options& o) {
             view_page page;
             page.title = mode + " playback of " + file_name(o.input) + ", seed " + std::to_string(o.seed);
             page.clips = {{"input " + file_name(o.input), m.clip}, {"played", result}};
-            page.markers = o.video_texture ? frame_markers(1, events, "jump", "jump to a similar frame")
-                                           : frame_markers(1, events, "turn", "turn: plays the other way");
+            page.markers = o.video_texture ? frame_markers(1, played.events, "jump", "jump to a similar frame")
+                                           : frame_markers(1, played.events, "turn", "turn: plays the other way");
             page_written = write_view_page(o.view, page);
             out["view"] = o.view;
         }

@@ -5,6 +5,7 @@
 
 #include <anima/motion/resequence.hpp>
 #include <anima/symmetry/instances.hpp>
+#include <anima/symmetry/play_clip.hpp>
 #include <anima/symmetry/render_stream.hpp>
 #include <anima/symmetry/symmetric_playback.hpp>
 #include <anima/symmetry/symmetry_scores.hpp>
