@@ -89,7 +89,6 @@ void run_playback(const playback_options& o) {
     p.playback.seed = o.seed;
     p.playback.start_frame = start;
     p.render.resequence.root = anima::parse_root_path(o.root);
-    p.render.resequence.up = m.up;
     p.render.plant_feet = o.plant_feet;
     p.make_clip = !o.output.empty() || o.json || !o.view.empty();
     anima::played_clip<double> played;

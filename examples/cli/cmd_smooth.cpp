@@ -42,16 +42,15 @@ void run_smooth(const smooth_options& o) {
 
     const auto measures = anima::measure_smoothing(c, result.motion, o.seams);
     const auto& layout = measures.layout;
-    const double degrees = 180 / anima::pi<double>;
-    const double drift_rot = measures.largest_change.rotation * 180 / anima::pi<double>;
+    const double drift_rot = anima::degrees(measures.largest_change.rotation);
     const double drift_tr = measures.largest_change.translation;
 
     json seams = json::array();
     for (std::size_t i = 0; i < measures.seams.size(); ++i) {
         const auto &b = measures.before[i], &a = measures.after[i];
         seams.push_back({{"frame", measures.seams[i]},
-                         {"rotation_jump_before", b.rotation * degrees},
-                         {"rotation_jump_after", a.rotation * degrees},
+                         {"rotation_jump_before", anima::degrees(b.rotation)},
+                         {"rotation_jump_after", anima::degrees(a.rotation)},
                          {"translation_jump_before", b.translation},
                          {"translation_jump_after", a.translation},
                          {"worst_dof", b.rotation > 0 ? layout.name(c.skeleton(), b.worst_rotation_dof) : ""}});

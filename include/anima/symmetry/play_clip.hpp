@@ -53,7 +53,8 @@ struct play_clip_params {
     /// its seed and start frame.
     playback_params<T> playback;
     video_texture_params<T> video_texture;
-    /// The root's path and the planting. Ignored when `render` is false.
+    /// The root's path and the planting (the up axis, when empty, is the
+    /// features'). Not used without make_clip.
     render_stream_params<T> render;
     /// false: only the stream and its report, no clip (rendering and
     /// planting are most of the cost).

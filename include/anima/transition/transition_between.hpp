@@ -84,13 +84,9 @@ transition_between_result<T> transition_between(const clip<T>& a, std::size_t tr
     constexpr const char* who = "anima::transition_between";
     check_non_negative(who, "transition_between_params::crossfade_time", params.crossfade_time);
     check_positive(who, "transition_between_params::halflife", params.halflife);
-    check_same_hierarchy(a.skeleton(), b.skeleton());
     transition_between_result<T> out;
     const classify_params& world = params.variable.classification;
-    out.up = world.up ? *world.up : guess_up_axis(a.skeleton()).up;
-    out.metres_per_unit = world.metres_per_unit ? *world.metres_per_unit
-                                                : guess_units(a.skeleton(), out.up).metres_per_unit;
-    out.roles = params.variable.roles.empty() ? joint_roles(a.skeleton()) : params.variable.roles;
+    // Each method checks the clips and frames itself.
     switch (params.method) {
         case transition_method::variable: {
             transition<T> t = make_transition(a, trigger, b, b_start, params.variable);
@@ -106,6 +102,10 @@ transition_between_result<T> transition_between(const clip<T>& a, std::size_t tr
             out.unplanted = inertialize(a, trigger, b, b_start, static_cast<T>(params.halflife), world.up);
             break;
     }
+    out.up = world.up ? *world.up : guess_up_axis(a.skeleton()).up;
+    out.metres_per_unit = world.metres_per_unit ? *world.metres_per_unit
+                                                : guess_units(a.skeleton(), out.up).metres_per_unit;
+    out.roles = params.variable.roles.empty() ? joint_roles(a.skeleton()) : params.variable.roles;
     out.unplanted_quality =
         measure_transition(out.unplanted, out.roles, out.up, out.metres_per_unit, params.measure_margin);
     if (!params.plant_feet) {
