@@ -254,27 +254,6 @@ anima::motion_texture_params<double> texture_params(const texture_options& o, co
     return p;
 }
 
-/// How smooth the seams are, against the input's own speeds.
-struct seam_check {
-    std::vector<anima::seam_speed<double>> speeds;
-    anima::seam_speed<double> worst;  ///< anima::worst_seam_speed of the passes
-    std::string worst_joint_name;
-};
-
-seam_check check_seams(const clip_t& c, const anima::motion_texture<double>& t) {
-    seam_check out;
-    // Against the fastest the input clips move (the texton's source speeds).
-    out.speeds = anima::seam_speeds(t.motion, t.overlap_spans, t.texton.source_speeds);
-    out.worst = anima::worst_seam_speed(out.speeds);
-    out.worst_joint_name = out.worst.joint_ratio > 0 ? c.skeleton()[out.worst.worst_joint].name : "";
-    return out;
-}
-
-/// Median foot skate of the inputs and the texture (anima::clip_foot_skate).
-struct skate_check {
-    double input = 0, output = 0;
-};
-
 /// The page of --view: the inputs (M1 and M2 marked) beside the texture
 /// (each pass through an overlap, the frames where the graph-cut seams are
 /// crossed, and the symmetric passages' turns).
@@ -307,6 +286,11 @@ view_page texture_page(const texture_options& o, const std::vector<clip_t>& clip
     return page;
 }
 
+/// The joint of the seams' largest joint speed ratio.
+std::string worst_joint_name(const clip_t& c, const anima::texture_measures<double>& check) {
+    return check.worst.joint_ratio > 0 ? c.skeleton()[check.worst.worst_joint].name : "";
+}
+
 struct stage_times {
     double read = 0, write = 0, total = 0;
 };
@@ -331,7 +315,7 @@ json inputs_json(const texture_options& o, const std::vector<std::size_t>& first
 
 json texture_json(const texture_options& o, const std::vector<std::size_t>& firsts, const std::vector<clip_t>& clips,
                   const anima::motion_texton<double>& texton, const anima::motion_texture<double>& t,
-                  const seam_check& check, const skate_check& skate, const stage_times& times) {
+                  const anima::texture_measures<double>& check, const stage_times& times) {
     const clip_t& c = clips[0];
     const double dt = c.frame_time();
     json seams = json::array();
@@ -343,7 +327,7 @@ json texture_json(const texture_options& o, const std::vector<std::size_t>& firs
                          {"cost", texton.cut.row_cost[r]}});
     }
     json spans = json::array();
-    for (const auto& s : check.speeds)
+    for (const auto& s : check.seams)
         spans.push_back({{"first", s.first},
                          {"last", s.last},
                          {"joint_speed_ratio", s.joint_ratio},
@@ -370,11 +354,11 @@ json texture_json(const texture_options& o, const std::vector<std::size_t>& firs
                 {"smoothing", o.smoothing},
                 {"seams", seams},
                 {"overlap_passes", spans},
-                {"foot_skate", skate_json(skate.input, skate.output)},
+                {"foot_skate", skate_json(check.input_skate.median, check.skate.median)},
                 {"feet_planted", o.plant_feet},
                 {"planted_runs", t.planted_runs},
                 {"seam_check", {{"joint_speed_ratio", check.worst.joint_ratio},
-                                {"worst_joint", check.worst_joint_name},
+                                {"worst_joint", worst_joint_name(c, check)},
                                 {"root_speed_ratio", check.worst.root_ratio},
                                 {"finite", true}}},  // a clip holds finite values only: its setters refuse others
                 {"poisson", to_json(t.smoothing)},
@@ -448,7 +432,7 @@ std::pair<double, double> reorder_clips(texture_options& o, std::vector<clip_t>&
 /// the stages' times.
 void print_texture_summary(const texture_options& o, const std::vector<std::size_t>& firsts,
                            const std::vector<clip_t>& clips, const anima::motion_texton<double>& texton,
-                           const anima::motion_texture<double>& t, const seam_check& check, const skate_check& skate,
+                           const anima::motion_texture<double>& t, const anima::texture_measures<double>& check,
                            const std::optional<std::pair<double, double>>& order_costs) {
     const clip_t& c = clips[0];
     const double dt = c.frame_time();
@@ -478,15 +462,18 @@ void print_texture_summary(const texture_options& o, const std::vector<std::size
     std::cout << "seams: " << texton.rows() << " rows switch at overlap frames " << lo << ".." << hi << ", cut cost "
               << format_number(texton.cut.cost, 4) << " (" << format_number(texton.cut.neighbour_cost, 4)
               << " between neighbouring joints)\n";
-    std::cout << "seam check over " << check.speeds.size() << " pass" << (check.speeds.size() == 1 ? "" : "es")
+    std::cout << "seam check over " << check.seams.size() << " pass" << (check.seams.size() == 1 ? "" : "es")
               << " through " << (clips.size() > 1 ? "the overlaps" : "the overlap") << ": joint speed <= "
               << format_fixed(check.worst.joint_ratio, 3) << " x the input's fastest"
-              << (check.worst_joint_name.empty() ? "" : " (" + check.worst_joint_name + ")") << ", root speed <= "
+              << (check.worst.joint_ratio > 0 ? " (" + worst_joint_name(c, check) + ")" : "") << ", root speed <= "
               << format_fixed(check.worst.root_ratio, 3) << " x\n";
     if (o.symmetric) std::cout << t.passages << " symmetric passages, " << t.turns.size() << " turns\n";
     std::cout << (o.plant_feet ? "feet planted in " + std::to_string(t.planted_runs) + " contact runs" : "feet not planted")
-              << "; foot skate " << format_number(skate.output, 3) << " body heights/s"
-              << (skate.input > 0 ? ", " + format_fixed(skate.output / skate.input, 2) + " x the input's" : "") << "\n";
+              << "; foot skate " << format_number(check.skate.median, 3) << " body heights/s"
+              << (check.input_skate.median > 0
+                      ? ", " + format_fixed(check.skate.median / check.input_skate.median, 2) + " x the input's"
+                      : "")
+              << "\n";
     std::cout << "stages (s): search " << format_number(t.timings.search, 3) << ", cut " << format_number(t.timings.cut, 3)
               << ", fades " << format_number(t.timings.blend, 3) << ", patch " << format_number(t.timings.patch, 3)
               << ", Poisson " << format_number(t.timings.smoothing, 3)
@@ -536,13 +523,11 @@ void run_texture(texture_options o) {
     if (!o.view.empty()) page_written = write_view_page(o.view, texture_page(o, clips, t));
     const double write_seconds = timer.lap();
 
-    const seam_check check = check_seams(c, t);
+    const anima::texture_measures<double> check = anima::measure_texture(clips, t, up);
     warn_unconverged(t.smoothing);
-
-    const skate_check skate{anima::clip_foot_skate(clips, up).median, anima::clip_foot_skate(t.motion, up).median};
     if (o.json) {
         const stage_times times{read_seconds, write_seconds, total.elapsed()};
-        json out = texture_json(o, firsts, clips, texton, t, check, skate, times);
+        json out = texture_json(o, firsts, clips, texton, t, check, times);
         if (clips.size() > 1) out["offsets_from"] = o.inputs[0];  // the output uses the first clip's skeleton
         if (clips.size() > 1)
             out["order"] = {{"rule", o.order},
@@ -552,7 +537,7 @@ void run_texture(texture_options o) {
         print_json(out);
         return;
     }
-    print_texture_summary(o, firsts, clips, texton, t, check, skate, order_costs);
+    print_texture_summary(o, firsts, clips, texton, t, check, order_costs);
     if (!o.output.empty())
         report_written(o.output +
                        (clips.size() > 1 ? " (skeleton and offsets of " + file_name(o.inputs[0]) + ")" : std::string()));

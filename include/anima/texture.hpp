@@ -1,10 +1,12 @@
 // Graph-cut motion textures: overlap search, seam costs (Eq 7-9), the
 // (row x frame) min-cut, C1 blending (Eq 11-13), textons, long textures
-// (Eq 10) with Poisson smoothing (Eq 14), and a seam-speed check.
+// (Eq 10) with Poisson smoothing (Eq 14), a seam-speed check and the
+// texture measured against its inputs.
 #pragma once
 
 #include <anima/texture/clip_order.hpp>
 #include <anima/texture/instances.hpp>
+#include <anima/texture/measure_texture.hpp>
 #include <anima/texture/motion_smoothing.hpp>
 #include <anima/texture/motion_texture.hpp>
 #include <anima/texture/overlap_search.hpp>

@@ -10,6 +10,7 @@
 #include <anima/motion/clip.hpp>
 #include <anima/rotation/quaternion.hpp>
 #include <anima/rotation/swing_twist.hpp>
+#include <anima/texture/measure_texture.hpp>
 #include <anima/texture/motion_texture.hpp>
 #include <anima/texture/seam_speed.hpp>
 #include <anima/texture/texton.hpp>
@@ -296,6 +297,62 @@ TEST_CASE_TEMPLATE("texture: progress reports each stage once, in order, with it
     stages.clear();
     (void)anima::patch_texton(t.texton, frames, p);
     CHECK(stages == std::vector<std::string>{"patch", "smoothing", "planting"});
+}
+
+TEST_CASE_TEMPLATE("measure_texture: the seams' speeds and the skate, as the single measures give them", T, float,
+                   double) {
+    const auto c = run<T>();
+    auto p = unplanted<T>();
+    p.texton = anima::fit_texton_lengths(p.texton, c.frames());
+    const std::size_t frames = 400;
+    const auto t = anima::make_motion_texture(c, frames, p);
+    const auto up = anima::guess_up_axis(c.skeleton()).up;
+    const auto q = anima::measure_texture(c, t, up);
+    // One measure per pass through an overlap, each the direct call's.
+    const auto direct = anima::seam_speeds(t.motion, t.overlap_spans, t.texton.source_speeds);
+    REQUIRE(q.seams.size() == t.overlap_spans.size());
+    REQUIRE(q.seams.size() >= 2);
+    for (std::size_t i = 0; i < q.seams.size(); ++i) {
+        CHECK(q.seams[i].first == direct[i].first);
+        CHECK(q.seams[i].last == direct[i].last);
+        CHECK(q.seams[i].joint_ratio == direct[i].joint_ratio);
+        CHECK(q.seams[i].worst_joint == direct[i].worst_joint);
+        CHECK(q.seams[i].root_ratio == direct[i].root_ratio);
+    }
+    // The worst is the largest of them, by joint and by root.
+    T joint = T(0), root = T(0);
+    for (const auto& s : q.seams) {
+        joint = std::max(joint, s.joint_ratio);
+        root = std::max(root, s.root_ratio);
+    }
+    CHECK(q.worst.joint_ratio == joint);
+    CHECK(q.worst.root_ratio == root);
+    CHECK(q.worst.within(T(0.02)));  // the texture's seams are smooth
+    CHECK(q.input_skate.median == anima::clip_foot_skate(c, up).median);
+    CHECK(q.skate.median == anima::clip_foot_skate(t.motion, up).median);
+    CHECK(q.skate.samples > 0);
+    // Several inputs pool their contacts, as clip_foot_skate of all of them does.
+    const std::vector<anima::clip<T>> two{c, c.slice(0, c.frames() / 2)};
+    CHECK(anima::measure_texture(two, t, up).input_skate.median == anima::clip_foot_skate(two, up).median);
+
+    SUBCASE("a pose jump inside a pass is found, at its joint") {
+        auto broken = t;
+        const std::size_t f = (t.overlap_spans[1].first + t.overlap_spans[1].second) / 2;
+        const std::size_t knee = c.skeleton().index_of("lShin");
+        const Eigen::Quaternion<T> kick(Eigen::AngleAxis<T>(T(1), Eigen::Matrix<T, 3, 1>::UnitX()));
+        broken.motion.set_rotation(f, knee, kick * broken.motion.rotation(f, knee));
+        const auto b = anima::measure_texture(c, broken, up);
+        CHECK(b.seams[1].joint_ratio > T(2));
+        CHECK(b.seams[1].worst_joint == knee);
+        CHECK(b.worst.worst_joint == knee);
+        CHECK(b.seams[0].joint_ratio == q.seams[0].joint_ratio);  // the other passes as they were
+    }
+    SUBCASE("refused: no input, or another skeleton") {
+        CHECK(contains(invalid_argument_message([&] { (void)anima::measure_texture(std::vector<anima::clip<T>>{}, t); }),
+                       "anima::measure_texture: no input clip"));
+        CHECK(contains(invalid_argument_message([&] { (void)anima::measure_texture(walk<T>(), t); }),
+                       "anima::measure_texture: input 0 is not of the texture's skeleton"));
+    }
 }
 
 TEST_CASE_TEMPLATE("texton: the loop is at least twice the overlap unless asked otherwise", T, float, double) {

@@ -248,6 +248,14 @@ std::vector<pass_seams> seams_per_pass(const motion_texture<T>& t, seam_mark mar
 
 namespace detail {
 
+/// How fast the clips of `texton` move at most: its source_speeds, or its
+/// own for a texton made without them.
+template <class T>
+speed_limits<T> source_speed_limits(const motion_texton<T>& texton) {
+    return texton.source_speeds.joint.size() == texton.motion.joints() ? texton.source_speeds
+                                                                         : clip_speed_limits(texton.motion);
+}
+
 /// Where the stream crosses each row's seams (out.row_seams) and the runs of
 /// texture frames inside an overlap of the texton (out.overlap_spans).
 template <class T>
@@ -458,9 +466,7 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
         // The legs stay within the speeds of the clip the texture is made
         // of, as the seams do.
         out.planted_runs = plant_feet_in_ranges(out.motion, std::move(ranges), params.planting.feet,
-                                                texton.source_speeds.joint.size() == texton.motion.joints()
-                                                    ? texton.source_speeds.joint
-                                                    : clip_speed_limits(texton.motion).joint);
+                                                detail::source_speed_limits(texton).joint);
     }
     out.timings.planting = clock.lap();
     if (params.progress) params.progress("planting", out.timings.planting);
