@@ -52,7 +52,9 @@ constexpr double max_jump_search_steps = 4e9;
 
 /// Refuses up front a clip too long for the quadratic jump search.
 void check_jump_search(const motion_range& m) {
-    const double frames = static_cast<double>(m.clip.frames()), dofs = static_cast<double>(m.features.cols());
+    // The features' columns: the DOF view's (no reference rotations needed to count them).
+    const double frames = static_cast<double>(m.clip.frames());
+    const double dofs = static_cast<double>(anima::make_dof_layout(m.clip, anima::dof_reference::identity).size());
     const double steps = frames * frames * (dofs + 8);
     if (steps <= max_jump_search_steps) return;
     const double most = std::floor(std::sqrt(max_jump_search_steps / (dofs + 8)));

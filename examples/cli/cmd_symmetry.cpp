@@ -134,10 +134,11 @@ void check_matrix_memory(std::size_t n, int requested_size) {
 }
 
 matrix_image write_distance_matrix(const std::string& path, const std::string& input, const motion_range& m,
-                                   const anima::symmetry_params<double>& params, int requested_size) {
+                                   const Eigen::MatrixXd& features, const anima::symmetry_params<double>& params,
+                                   int requested_size) {
     const std::size_t n = m.clip.frames();
-    const auto distance = anima::make_frame_distance(m.features, m.clip.frame_time(), params.distance);
-    Eigen::MatrixXd d = anima::distance_matrix(m.features, distance);
+    const auto distance = anima::make_frame_distance(features, m.clip.frame_time(), params.distance);
+    Eigen::MatrixXd d = anima::distance_matrix(features, distance);
     // Eq 2 is a squared distance: its root is on the scale of a length, like Eq 1.
     if (params.distance.metric == anima::frame_metric::mahalanobis) d = d.cwiseSqrt();
 
@@ -169,7 +170,10 @@ void run_symmetry(const symmetry_cli_options& o) {
         throw failure("--matrix: " + std::to_string(n) + " frames are too many for the full distance matrix (at most " +
                       std::to_string(max_matrix_frames) + "); choose a range with --first and --last");
     if (!o.matrix.empty()) check_matrix_memory(n, o.matrix_size);
-    const anima::symmetry_result<double> r = anima::symmetry_scores(m.features, m.clip.frame_time(), params);
+    anima::frame_feature_params feature_params;
+    feature_params.up = m.up;
+    const Eigen::MatrixXd features = anima::frame_features(m.clip, feature_params);
+    const anima::symmetry_result<double> r = anima::symmetry_scores(features, m.clip.frame_time(), params);
     if (!r.score.allFinite()) throw failure("'" + o.input + "': the symmetry scores are not finite");
     const int candidate_window = params.candidate_radius ? params.candidate_radius : params.radius;
     const int min_pairs = anima::candidate_min_pairs(params, n);
@@ -178,7 +182,7 @@ void run_symmetry(const symmetry_cli_options& o) {
 
     if (!o.plot.empty()) write_score_plot(o.plot, o.input, m, r, settings, min_pairs);
     matrix_image image;
-    if (!o.matrix.empty()) image = write_distance_matrix(o.matrix, o.input, m, params, o.matrix_size);
+    if (!o.matrix.empty()) image = write_distance_matrix(o.matrix, o.input, m, features, params, o.matrix_size);
 
     if (o.json) {
         json candidates = json::array();

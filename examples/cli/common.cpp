@@ -548,9 +548,6 @@ motion_range load_motion_range(const std::string& path, const frame_range_option
     out.clip = o.first == 0 && last + 1 == n ? whole : whole.slice(o.first, last + 1);
     out.decimals = anima::bvh_value_decimals(text);
     out.up = up_axis_or_guess(o.up, whole.skeleton(), path);
-    anima::frame_feature_params features;
-    features.up = out.up;
-    out.features = anima::frame_features(out.clip, features);
 
     // A rest pose (T-pose) that an exporter put before the motion, often
     // followed by a few frames that swing out of it: their large steps would

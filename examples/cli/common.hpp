@@ -336,12 +336,11 @@ struct frame_range_options {
 /// Adds --first, --last and --up.
 void add_frame_range_options(CLI::App& sub, frame_range_options& o);
 
-/// A clip's frames first..last and their symmetry features.
+/// A clip's frames first..last, as the symmetry subcommands read them.
 struct motion_range {
     clip_t clip;                 ///< frames first..last of the file
     std::size_t first = 0;       ///< the file's number of the range's frame 0
     anima::signed_axis up;       ///< guessed or --up
-    Eigen::MatrixXd features;    ///< anima::frame_features of `clip`, one row per frame
     int decimals = 0;            ///< bvh_value_decimals of the file
 };
 
