@@ -37,6 +37,7 @@ struct pair_spec {
 struct method_run {
     std::string name;
     anima::joined_clip<double> joined;
+    anima::transition_quality<double> quality;
 };
 
 // One joint's rotation angle from its rest orientation, in degrees, around
@@ -132,40 +133,47 @@ double root_acceleration_p99(const anima::clip<double>& c, double metres_per_uni
 void evaluate_pair(const std::string& dir, const pair_spec& p, const std::string& plot_to) {
     const auto a = anima::read_bvh(dir + "/" + p.a);
     const auto b = anima::read_bvh(dir + "/" + p.b);
-    const auto roles = anima::joint_roles(a.skeleton());
     const auto up = anima::guess_up_axis(a.skeleton()).up;
     const double mpu = anima::guess_units(a.skeleton(), up).metres_per_unit;
-    const auto t = anima::make_transition(a, p.at, b, p.to);
-    std::vector<method_run> runs = {
-        {"variable timing", anima::join(a, p.at, t)},
-        {"direct cut", anima::direct_cut(a, p.at, b, p.to)},
-        {"crossfade 0.3 s", anima::crossfade(a, p.at, b, p.to, 0.3)},
-        {"inertialize (hl 0.1 s)", anima::inertialize(a, p.at, b, p.to, 0.1)},
-    };
     // Each method as it comes, then with its feet planted through the
     // window by the legs alone, then by the root and the legs (the default).
-    anima::transition_feet_params<double> legs_only;
-    legs_only.root_from_feet = false;
-    const std::size_t methods = runs.size();
-    for (std::size_t i = 0; i < methods; ++i)
-        runs.push_back({runs[i].name + ", feet planted, legs only", anima::plant_transition_feet(runs[i].joined, legs_only)});
-    for (std::size_t i = 0; i < methods; ++i)
-        runs.push_back({runs[i].name + ", feet planted", anima::plant_transition_feet(runs[i].joined)});
+    // transition_between measures each the same way: joint_roles of A, the
+    // up axis and units guessed from A's skeleton.
+    const std::pair<const char*, anima::transition_method> methods[] = {
+        {"variable timing", anima::transition_method::variable},
+        {"direct cut", anima::transition_method::cut},
+        {"crossfade 0.3 s", anima::transition_method::crossfade},      // crossfade_time's default
+        {"inertialize (hl 0.1 s)", anima::transition_method::inertialize},  // halflife's default
+    };
+    std::vector<method_run> as_made, legs_planted, planted;
+    std::string classes;
+    for (const auto& [name, method] : methods) {
+        anima::transition_between_params<double> params;
+        params.method = method;
+        const auto both = anima::transition_between(a, p.at, b, p.to, params);
+        params.feet.root_from_feet = false;
+        const auto legs = anima::transition_between(a, p.at, b, p.to, params);
+        as_made.push_back({name, both.unplanted, both.unplanted_quality});
+        legs_planted.push_back({std::string(name) + ", feet planted, legs only", legs.joined, legs.quality});
+        planted.push_back({std::string(name) + ", feet planted", both.joined, both.quality});
+        if (both.variable)
+            classes = std::string(anima::to_string(both.variable->class_a.type)) + " → " +
+                      anima::to_string(both.variable->class_b.type);
+    }
     std::printf("| %s | the clips themselves: 99th percentile | | | | %.1f | | | | |\n", p.label,
                 std::max(root_acceleration_p99(a, mpu), root_acceleration_p99(b, mpu)));
-    for (const auto& r : runs) {
-        const auto q = anima::measure_transition(r.joined, roles, up, mpu);
-        std::printf("| %s (%s → %s) | %s | %.3f | %.0f | %.3g | %.1f | %.2f | %.3f | %.2f× | %.2f |\n", p.label,
-                    std::string(anima::to_string(t.class_a.type)).c_str(),
-                    std::string(anima::to_string(t.class_b.type)).c_str(), r.name.c_str(), q.length,
-                    q.peak_angular_acceleration, q.peak_angular_jerk, q.peak_root_acceleration, q.foot_slide,
-                    q.foot_skate_window, q.foot_skate_ratio, q.root_speed_ratio);
-    }
+    for (const auto* runs : {&as_made, &legs_planted, &planted})
+        for (const auto& r : *runs) {
+            const auto& q = r.quality;
+            std::printf("| %s (%s) | %s | %.3f | %.0f | %.3g | %.1f | %.2f | %.3f | %.2f× | %.2f |\n", p.label,
+                        classes.c_str(), r.name.c_str(), q.length, q.peak_angular_acceleration, q.peak_angular_jerk,
+                        q.peak_root_acceleration, q.foot_slide, q.foot_skate_window, q.foot_skate_ratio,
+                        q.root_speed_ratio);
+        }
     if (plot_to.empty()) return;
-    runs.resize(methods);  // the plot shows the methods as they come
     const std::size_t joint = a.skeleton().find("rThigh").value_or(a.skeleton().find("RightUpLeg").value_or(1));
     write_plot(plot_to, std::string(p.label) + ": " + a.skeleton()[joint].name + " angle through each transition",
-               runs, joint);
+               as_made, joint);  // the methods as they come
 }
 
 }  // namespace
