@@ -287,8 +287,8 @@ void run_ik(const ik_options& o) {
                 {"tolerance", s.params.tolerance},
                 {"iterations", solved.iterations},
                 {"seconds", seconds},
-                {"max_joint_step_deg_before", solved.max_joint_step_before * 180 / anima::pi<double>},
-                {"max_joint_step_deg_after", solved.max_joint_step_after * 180 / anima::pi<double>}};
+                {"max_joint_step_deg_before", anima::degrees(solved.max_joint_step_before)},
+                {"max_joint_step_deg_after", anima::degrees(solved.max_joint_step_after)}};
     if (!o.output.empty()) out["output"] = o.output;
     if (!o.view.empty()) out["view"] = o.view;
     if (o.json) return print_json(out);
