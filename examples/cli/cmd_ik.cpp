@@ -98,8 +98,15 @@ std::vector<std::string> solver_names() {
     return names;
 }
 
-/// Per frame, the effectors and their targets (relative to the joint's
-/// recorded position in offset mode, world positions otherwise), from
+/// The index of joint `name`, or a failure naming the file (and a joint
+/// whose name differs only in case).
+std::size_t joint_named(const skeleton_t& sk, const std::string& name, const std::string& input) {
+    if (const auto j = sk.find(name)) return *j;
+    throw failure("no joint named '" + name + "' in '" + input + "'" + sk.did_you_mean(name));
+}
+
+/// Per frame, the effectors and their world targets (in offset mode the
+/// joint's recorded position plus the offset: anima::offset_goals), from
 /// whichever of the three modes the options use.
 frame_targets collect_targets(const ik_options& o, const clip_t& c) {
     const bool offset_mode = !o.offset.empty();
@@ -123,7 +130,8 @@ frame_targets collect_targets(const ik_options& o, const clip_t& c) {
             throw failure("--frames " + o.frames + " is not within 0.." + std::to_string(c.frames() - 1) + " of '" +
                           o.input + "'");
         const vec3 by = parse_vec3(o.by, "--by");
-        for (std::size_t f = first; f <= last; ++f) per_frame[f].emplace_back(o.offset, by);
+        for (const auto& g : anima::offset_goals(c, joint_named(c.skeleton(), o.offset, o.input), by, first, last))
+            per_frame[g.frame].emplace_back(o.offset, g.goals[0].position);
     } else {
         if (o.effectors.empty() || o.effectors.size() != o.targets.size())
             throw CLI::ValidationError("--effector/--target", "give one --target per --effector (" +
@@ -223,9 +231,7 @@ void run_ik(const ik_options& o) {
         for (const auto& w : entry.second)
             if (std::none_of(wanted.begin(), wanted.end(), [&](const auto& x) { return x.first == w.first; }))
                 wanted.push_back(w);
-    for (const auto& w : wanted)
-        if (!sk.find(w.first))
-            throw failure("no joint named '" + w.first + "' in '" + o.input + "'" + sk.did_you_mean(w.first));
+    for (const auto& w : wanted) (void)joint_named(sk, w.first, o.input);
 
     if (learned) train_model(o, s, wanted);
 
@@ -237,13 +243,10 @@ void run_ik(const ik_options& o) {
     std::vector<view_target> shown;  // every goal's world position, for --view
     for (const auto& [f, listed] : per_frame) {
         const auto frame_wanted = learned ? in_model_order(listed, wanted, f) : listed;
-        const auto truth = anima::forward_kinematics(c, f);
         anima::frame_goals<double> g{f, {}};
-        for (const auto& w : frame_wanted) {
-            const auto j = sk.index_of(w.first);
-            const vec3 target = offset_mode ? vec3(truth.positions[j] + w.second) : w.second;
-            g.goals.push_back(anima::position_goal<double>(j, target));
-            for (const std::size_t clip : {std::size_t{0}, std::size_t{1}}) shown.push_back({clip, f, target, w.first});
+        for (const auto& [name, target] : frame_wanted) {
+            g.goals.push_back(anima::position_goal<double>(sk.index_of(name), target));
+            for (const std::size_t clip : {std::size_t{0}, std::size_t{1}}) shown.push_back({clip, f, target, name});
         }
         goals.push_back(std::move(g));
         goal_names.push_back(frame_wanted);

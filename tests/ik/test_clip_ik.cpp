@@ -6,12 +6,14 @@
 
 #include <anima/bvh.hpp>
 #include <anima/ik/clip_ik.hpp>
+#include <anima/ik/position_targets.hpp>
 #include <anima/ik/solve_with.hpp>
 #include <anima/motion.hpp>
 
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -50,11 +52,25 @@ anima::kinematic_tree<T> body_tree(const anima::clip<T>& c) {
 template <class T>
 std::vector<anima::frame_goals<T>> hand_offset(const anima::clip<T>& walk, std::size_t first, std::size_t last,
                                                const point3<T>& by) {
-    const std::size_t hand = walk.skeleton().index_of("LeftHand");
-    std::vector<anima::frame_goals<T>> goals;
-    for (std::size_t f = first; f <= last; ++f)
-        goals.push_back({f, {anima::position_goal<T>(hand, anima::forward_kinematics(walk, f).positions[hand] + by)}});
-    return goals;
+    return anima::offset_goals(walk, walk.skeleton().index_of("LeftHand"), by, first, last);
+}
+
+/// Joint j's global position at frame f, composed along its parents here in
+/// long double (not the library's forward kinematics).
+template <class T>
+Eigen::Matrix<long double, 3, 1> reference_position(const anima::clip<T>& c, std::size_t f, std::size_t j) {
+    using quat = Eigen::Quaternion<long double>;
+    const auto& sk = c.skeleton();
+    std::vector<std::size_t> chain;  // j up to the root
+    for (long k = static_cast<long>(j); k >= 0; k = sk[static_cast<std::size_t>(k)].parent) chain.push_back(static_cast<std::size_t>(k));
+    Eigen::Matrix<long double, 3, 1> p = Eigen::Matrix<long double, 3, 1>::Zero();
+    quat q = quat::Identity();
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+        const Eigen::Matrix<long double, 3, 1> local = c.translation(f, *it).template cast<long double>();
+        p += q * local;
+        q = q * c.rotation(f, *it).template cast<long double>();
+    }
+    return p;
 }
 
 template <class T>
@@ -63,6 +79,43 @@ auto dls() {
               const anima::ik_vector<T>& start, const anima::ik_params<T>& p) {
         return anima::solve_ik_with(anima::ik_solver::damped_least_squares, tree, goals, start, p);
     };
+}
+
+TEST_CASE_TEMPLATE("offset_goals: every frame's goal is the recorded position plus the offset", T, float, double) {
+    const auto walk = anima::read_bvh<T>(bundled("walk_cmu31_02_01.bvh"));
+    const std::size_t hand = walk.skeleton().index_of("LeftHand");
+    const point3<T> by(T(0.5), T(2), T(-1));
+    const auto goals = anima::offset_goals(walk, hand, by, 10, 40);
+    REQUIRE(goals.size() == 31);
+    const long double tol = tolerance<T>(1e-12, 1e-4) * 100;  // positions of about 100 units
+    for (std::size_t i = 0; i < goals.size(); ++i) {
+        CHECK(goals[i].frame == 10 + i);
+        REQUIRE(goals[i].goals.size() == 1);
+        const auto& g = goals[i].goals[0];
+        CHECK(g.kind == anima::ik_goal_kind::position);
+        CHECK(g.joint == hand);
+        CHECK(g.offset == point3<T>::Zero());
+        const Eigen::Matrix<long double, 3, 1> want =
+            reference_position(walk, goals[i].frame, hand) + by.template cast<long double>();
+        CHECK((g.position.template cast<long double>() - want).norm() <= tol);
+    }
+    // One frame; the root itself; a GLM offset gives the same goals.
+    CHECK(anima::offset_goals(walk, hand, by, 7, 7).size() == 1);
+    const auto root = anima::offset_goals(walk, 0, by, 0, 0);
+    CHECK((root[0].goals[0].position - (walk.root_position(0) + by)).norm() <= T(tol));
+    const auto from_glm = anima::offset_goals(walk, hand, glm::vec<3, T>(T(0.5), T(2), T(-1)), 10, 40);
+    for (std::size_t i = 0; i < goals.size(); ++i) CHECK(from_glm[i].goals[0].position == goals[i].goals[0].position);
+
+    using anima_test::contains;
+    using anima_test::invalid_argument_message;
+    const auto refused = [&](std::size_t joint, const point3<T>& offset, std::size_t first, std::size_t last) {
+        return invalid_argument_message([&] { (void)anima::offset_goals(walk, joint, offset, first, last); });
+    };
+    CHECK(contains(refused(walk.joints(), by, 0, 1), "anima::offset_goals: joint must be a joint of the clip's 31"));
+    CHECK(contains(refused(hand, by, 5, 4), "anima::offset_goals: first must be at most last (4), got 5"));
+    CHECK(contains(refused(hand, by, 0, walk.frames()), "anima::offset_goals: last must be a frame of the clip's"));
+    CHECK(contains(refused(hand, point3<T>(0, std::numeric_limits<T>::quiet_NaN(), 0), 0, 1),
+                   "anima::offset_goals: offset must be finite"));
 }
 
 TEST_CASE_TEMPLATE("solve_clip_ik moves a hand over a range: targets reached, others untouched, warm starts pay", T,

@@ -5,14 +5,18 @@
 //   121,LeftHand,0.31,1.03,0.15
 //
 // what `anima ik --targets` reads: a hand moved along a path, a foot held
-// where it is, each target in the clip's world units.
+// where it is, each target in the clip's world units. And the goals of an
+// offset edit: a joint moved by a fixed offset over a range of frames.
 #pragma once
 
+#include <anima/core/check_argument.hpp>
 #include <anima/core/error.hpp>
 #include <anima/core/file_io.hpp>
 #include <anima/core/text.hpp>
 #include <anima/ik/clip_ik.hpp>
 #include <anima/ik/goal.hpp>
+#include <anima/motion/clip.hpp>
+#include <anima/motion/forward_kinematics.hpp>
 #include <anima/motion/skeleton.hpp>
 
 #include <Eigen/Core>
@@ -99,6 +103,37 @@ std::vector<frame_goals<T>> parse_position_targets(std::string_view text, const 
 template <class T>
 std::vector<frame_goals<T>> read_position_targets(const std::string& path, const skeleton<T>& sk, std::size_t frames) {
     return parse_position_targets(read_file(path), path, sk, frames);
+}
+
+/// An offset edit as goals for solve_clip_ik: joint `joint` of c moved by
+/// `offset` (world units) from where the recording has it, in every frame
+/// first..last ("the left hand 10 cm higher over frames 20-80"). Each frame's
+/// goal is a position goal at its recorded global position plus the offset.
+/// Throws anima::invalid_argument for a joint outside the skeleton, a
+/// reversed range or one outside the clip, or a non-finite offset.
+template <class T>
+std::vector<frame_goals<T>> offset_goals(const clip<T>& c, std::size_t joint, const Eigen::Matrix<T, 3, 1>& offset,
+                                         std::size_t first, std::size_t last) {
+    constexpr const char* who = "anima::offset_goals";
+    check_argument(joint < c.joints(), who, "joint", "a joint of the clip's " + std::to_string(c.joints()), joint);
+    check_argument(first <= last, who, "first", "at most last (" + std::to_string(last) + ")", first);
+    check_argument(last < c.frames(), who, "last", "a frame of the clip's " + std::to_string(c.frames()), last);
+    for (int k = 0; k < 3; ++k) check_finite(who, "offset", offset[k]);
+    std::vector<frame_goals<T>> out;
+    out.reserve(last - first + 1);
+    global_pose<T> pose;
+    for (std::size_t f = first; f <= last; ++f) {
+        forward_kinematics(c, f, pose);
+        out.push_back({f, {position_goal<T>(joint, pose.positions[joint] + offset)}});
+    }
+    return out;
+}
+
+/// offset_goals with a GLM offset.
+template <class T, glm::qualifier P>
+std::vector<frame_goals<T>> offset_goals(const clip<T>& c, std::size_t joint, const glm::vec<3, T, P>& offset,
+                                         std::size_t first, std::size_t last) {
+    return offset_goals(c, joint, detail::eigen_vector(offset), first, last);
 }
 
 }  // namespace anima
