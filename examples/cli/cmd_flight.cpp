@@ -136,17 +136,18 @@ void run_flight(const flight_options& o) {
     const auto drift_text = [](const std::optional<double>& d) { return d ? format_number(*d, 3) : std::string("not defined"); };
 
     constexpr double frame_time = 1.0 / 60.0;
-    if (!o.output.empty()) {
-        const auto c = anima::flight_clip(problem, r.optimized, in.skeleton, in.metres_per_unit, frame_time);
-        write_text_file(o.output, anima::format_bvh(c));
-    }
+    const auto clip_of = [&](const auto& solution) {
+        return anima::flight_clip(problem, solution, in.skeleton, in.metres_per_unit, frame_time);
+    };
+    std::optional<clip_t> optimised;  // made once, for -o and --view
+    if (!o.output.empty() || !o.view.empty()) optimised = clip_of(r.optimized);
+    if (!o.output.empty()) write_text_file(o.output, anima::format_bvh(*optimised));
     std::string page_written;
     if (!o.view.empty()) {
         // The initial and the optimised timing side by side, each key marked.
         view_page page;
         page.title = "Flight of " + in.name + ": initial and optimised key times (model " + std::to_string(o.model) + ")";
-        page.clips = {{"initial timing", anima::flight_clip(problem, r.initial, in.skeleton, in.metres_per_unit, frame_time)},
-                      {"optimised", anima::flight_clip(problem, r.optimized, in.skeleton, in.metres_per_unit, frame_time)}};
+        page.clips = {{"initial timing", clip_of(r.initial)}, {"optimised", *optimised}};
         for (std::size_t clip = 0; clip < 2; ++clip) {
             const auto& times = clip == 0 ? r.initial.times : r.optimized.times;
             const std::size_t last = page.clips[clip].motion.frames() - 1;
