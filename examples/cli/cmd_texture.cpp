@@ -250,7 +250,6 @@ anima::motion_texture_params<double> texture_params(const texture_options& o, co
     p.mixing.probability = o.mix_probability;
     p.mixing.playback.seed = o.seed;
     p.planting.enabled = o.plant_feet;
-    p.planting.feet.contacts.up = p.texton.up;
     return p;
 }
 

@@ -269,6 +269,31 @@ TEST_CASE_TEMPLATE("texture: planting holds feet across seams of the bundled run
     for (std::size_t f = 0; f < frames; ++f) REQUIRE(planted.motion.root_position(f) == loose.motion.root_position(f));
 }
 
+TEST_CASE("texture: planting finds contacts along the texton's up axis unless told its own") {
+    const auto c = run<double>();
+    anima::motion_texture_params<double> p;
+    p.texton = anima::fit_texton_lengths(p.texton, c.frames());
+    const std::size_t frames = 300;
+    // Up the wrong way (-Y), so that the planting's own guess (+Y) differs.
+    const anima::signed_axis down{anima::axis::y, -1};
+    p.texton.up = down;
+    const auto t = anima::make_motion_texture(c, frames, p);
+    auto explicit_up = p;
+    explicit_up.planting.feet.contacts.up = down;
+    const auto told = anima::make_motion_texture(c, frames, explicit_up);
+    auto guessing = p;
+    guessing.planting.feet.contacts.up = anima::signed_axis{anima::axis::y, 1};
+    const auto other = anima::make_motion_texture(c, frames, guessing);
+    const auto same = [](const anima::clip<double>& x, const anima::clip<double>& y) {
+        for (std::size_t i = 0; i < x.rotations().size(); ++i)
+            if (x.rotations()[i].coeffs() != y.rotations()[i].coeffs()) return false;
+        return x.translations() == y.translations();
+    };
+    CHECK(same(t.motion, told.motion));
+    CHECK(t.planted_runs == told.planted_runs);
+    CHECK_FALSE(same(t.motion, other.motion));
+}
+
 TEST_CASE_TEMPLATE("texture: progress reports each stage once, in order, with its time; the motion is the same",
                    T, float, double) {
     const auto c = run<T>();

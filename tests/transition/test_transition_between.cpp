@@ -135,6 +135,25 @@ TEST_CASE("transition_between: given up axis, units and roles are used by the me
     CHECK(r1.quality.root_speed_ends == doctest::Approx(2 * r.quality.root_speed_ends).epsilon(1e-12));
 }
 
+TEST_CASE("transition_between: the given up axis is the planting's too, unless the planting names its own") {
+    const auto& w = walk_clip<double>();
+    anima::transition_between_params<double> p;
+    p.method = transition_method::crossfade;
+    // Up the wrong way (-Y): the feet are then "lowest" at the other end of
+    // the body, and planting finds other contacts than along +Y.
+    const anima::signed_axis down{anima::axis::y, -1};
+    p.variable.classification.up = down;
+    const auto r = anima::transition_between(w, 100, w, 250, p);
+    anima::transition_feet_params<double> along = p.feet;
+    along.planting.contacts.up = down;
+    CHECK(same_motion(r.joined, anima::plant_transition_feet(r.unplanted, along)));
+    CHECK_FALSE(same_motion(r.joined, anima::plant_transition_feet(r.unplanted, p.feet)));
+    // An up axis of the planting's own is kept.
+    p.feet.planting.contacts.up = anima::signed_axis{anima::axis::y, 1};
+    const auto own = anima::transition_between(w, 100, w, 250, p);
+    CHECK(same_motion(own.joined, anima::plant_transition_feet(own.unplanted, p.feet)));
+}
+
 TEST_CASE_TEMPLATE("transition_between: bad parameters and clips name what is wrong", T, float, double) {
     const anima::clip<T>& w = walk_clip<T>();
     anima::transition_between_params<T> p;

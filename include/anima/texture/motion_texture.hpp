@@ -91,7 +91,9 @@ struct texture_smoothing_params {
 template <class T>
 struct texture_planting_params {
     bool enabled = true;
-    plant_feet_params<T> feet;  ///< ranges are set from the texture's seams and turns
+    /// Ranges are set from the texture's seams and turns; contacts are
+    /// found along the texton's up axis when feet.contacts.up is empty.
+    plant_feet_params<T> feet;
 };
 
 template <class T>
@@ -463,10 +465,13 @@ motion_texture<T> patch_texton(const motion_texton<T>& texton, std::size_t frame
         std::vector<frame_interval> ranges;
         for (const auto& [first, last] : out.overlap_spans) ranges.push_back({first, last});
         for (const std::size_t f : out.turns) ranges.push_back({f, f});
-        // The legs stay within the speeds of the clip the texture is made
-        // of, as the seams do.
-        out.planted_runs = plant_feet_in_ranges(out.motion, std::move(ranges), params.planting.feet,
-                                                detail::source_speed_limits(texton).joint);
+        // Contacts along the texture's up axis unless told otherwise; the
+        // legs stay within the speeds of the clip the texture is made of, as
+        // the seams do.
+        plant_feet_params<T> feet = params.planting.feet;
+        if (!feet.contacts.up) feet.contacts.up = rp.up;
+        out.planted_runs =
+            plant_feet_in_ranges(out.motion, std::move(ranges), feet, detail::source_speed_limits(texton).joint);
     }
     out.timings.planting = clock.lap();
     if (params.progress) params.progress("planting", out.timings.planting);

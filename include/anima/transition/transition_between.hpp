@@ -52,6 +52,8 @@ struct transition_between_params {
     double crossfade_time = 0.3;  ///< s, the crossfade's length
     double halflife = 0.1;        ///< s, the inertialization spring's half-life
     bool plant_feet = true;       ///< plant_transition_feet on the joined clip
+    /// The planting; its contacts are found along the up axis above when
+    /// feet.planting.contacts.up is empty.
     transition_feet_params<T> feet;
     std::size_t measure_margin = 12;  ///< frames either side of the window that measure_transition counts
 };
@@ -113,7 +115,10 @@ transition_between_result<T> transition_between(const clip<T>& a, std::size_t tr
         out.quality = out.unplanted_quality;
         return out;
     }
-    out.joined = plant_transition_feet(out.unplanted, params.feet);
+    // The feet's contacts along the same up axis, unless told otherwise.
+    transition_feet_params<T> feet = params.feet;
+    if (!feet.planting.contacts.up) feet.planting.contacts.up = out.up;
+    out.joined = plant_transition_feet(out.unplanted, feet);
     out.quality = measure_transition(out.joined, out.roles, out.up, out.metres_per_unit, params.measure_margin);
     return out;
 }
