@@ -147,9 +147,9 @@ void run_transition(const transition_options& o) {
     const anima::joined_clip<double>& joined = r.joined;
 
     json out = {{"a", o.a}, {"b", o.b}, {"at", o.at}, {"to", o.to}, {"method", o.method}};
-    out["duration"] = a.frame_time() * static_cast<double>(joined.end_frame - joined.start_frame);
+    // The variable method's own T; a baseline's window, as measure_transition has it.
+    out["duration"] = r.variable ? r.variable->duration : r.quality.length;
     if (const auto& t = r.variable) {
-        out["duration"] = t->duration;
         out["unclamped_duration"] = t->timing.unclamped;
         out["limiting_joint"] = a.skeleton()[t->timing.limiting_joint].name;
         out["classes"] = {{"a", anima::to_string(t->class_a.type)}, {"b", anima::to_string(t->class_b.type)}};
