@@ -2,8 +2,8 @@
 // clip's end over its beginning where they overlap best, let every joint
 // switch at its own frame (a min-cut), fade, patch the textons end to end
 // and smooth the seams with Poisson. Then check the seams against the
-// clip's own joint and root speeds, next to a plain cut-and-paste loop,
-// and write the result (motion_texture.bvh in the working directory).
+// clip's own joint and root speeds (anima::measure_texture, with the feet's
+// skate), next to a plain cut-and-paste loop, and write the result (motion_texture.bvh in the working directory).
 // Last, the clip's two halves as two clips: one loop through both, with a
 // seam from each half into the other.
 //
@@ -73,9 +73,11 @@ int main(int argc, char** argv) {
                        texture.motion.translation(f, j).allFinite();
         check(unit, "unit quaternions and finite translations");
 
-        // Seams: each joint's speed and the root's against the clip's own fastest.
+        // Seams: each joint's speed and the root's against the clip's own
+        // fastest (and a cut-and-paste loop's), and the feet's skate.
+        const auto quality = anima::measure_texture(clip, texture);
+        const auto& seams = quality.seams;
         const auto limits = anima::clip_speed_limits(clip);
-        const auto seams = anima::seam_speeds(texture.motion, texture.overlap_spans, limits);
         std::vector<std::pair<std::size_t, std::size_t>> jumps;
         std::vector<std::size_t> stream;
         for (std::size_t k = 0; k < frames; ++k) {
@@ -85,6 +87,9 @@ int main(int argc, char** argv) {
         const auto naive = anima::seam_speeds(anima::resequence(clip, stream), jumps, limits);
         std::printf("fastest joint at the %zu seams: %.3f x the clip's own (cut-and-paste loop: %.3f x), root %.3f x\n",
                     seams.size(), worst(seams, false), worst(naive, false), worst(seams, true));
+        if (quality.input_skate.median > 0)
+            std::printf("foot skate: %.3f body heights/s, %.2f x the clip's own\n", quality.skate.median,
+                        quality.skate.median / quality.input_skate.median);
         check(!seams.empty(), "the texture passes through seams");
         check(worst(seams, false) <= 1.02 && worst(seams, true) <= 1.02, "seams within the clip's own speeds");
         check(worst(naive, false) > 1.5, "a cut-and-paste loop is not");
